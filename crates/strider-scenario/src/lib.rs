@@ -1,0 +1,3 @@
+//! # strider-scenario (skeleton; filled by the scenario work)
+pub mod model;
+pub use model::*;

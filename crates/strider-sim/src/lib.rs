@@ -1,0 +1,1 @@
+//! # strider-sim (skeleton; filled by the simulator work)
