@@ -172,12 +172,20 @@ pub struct RobotProfile {
     /// Hotel load (power drawn at rest), watts (`003`).
     #[serde(default)]
     pub hotel_load_w: f64,
+    /// Highest step the robot can physically climb, metres (the simulator refuses steeper
+    /// steps unless the cell can be pushed through).
+    #[serde(default = "max_step")]
+    pub max_step_m: f64,
     /// Turning rate in place, rad/s.
     #[serde(default = "half")]
     pub turn_rate: f64,
     /// Has a haptic bumper (C4).
     #[serde(default)]
     pub bumper: bool,
+}
+
+fn max_step() -> f64 {
+    0.25
 }
 
 fn half() -> f64 {

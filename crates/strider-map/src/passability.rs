@@ -1,0 +1,161 @@
+//! Passability from roughness (`001` Eq. 7–9, thesis C4 Eq. 5–6, `000` §IV-B) and
+//! configuration-space inflation (decision 4).
+//!
+//! ρ(ν) = max over *known* 8-neighbours ν' of |elevation(ν) − elevation(ν')| (Eq. 7–8; unknown
+//! neighbours are ignored, decision 4); π(ν) = 0 when ρ(ν) > ρ_obstacle, else 1 (Eq. 9). The
+//! robot's centre may only occupy cells with no impassable cell within r_robot (`000`
+//! δ_impassable).
+//!
+//! The dense-raster functions here are the single definition of the rule: the tiled map applies
+//! the same [`roughness`] per cell, and ground-truth passability of a world is computed with
+//! [`dense_passability`] on its elevation layer.
+
+use serde::{Deserialize, Serialize};
+use strider_core::grid::{NEIGHBOURS8, disc_offsets};
+
+/// Passability of a cell.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[repr(u8)]
+pub enum Passability {
+    /// Not observed (or no known neighbour to judge the step against).
+    #[default]
+    Unknown = 0,
+    /// π(ν) = 1.
+    Passable = 1,
+    /// π(ν) = 0.
+    Impassable = 2,
+}
+
+/// Roughness ρ(ν) (Eq. 7) of a cell with elevation `z` given its neighbours' elevations
+/// (`None` = unknown). Returns `None` when no neighbour is known.
+#[inline]
+pub fn roughness(z: f32, neighbours: impl IntoIterator<Item = Option<f32>>) -> Option<f32> {
+    let mut rho: Option<f32> = None;
+    for n in neighbours.into_iter().flatten() {
+        let step = (z - n).abs(); // Eq. 8
+        rho = Some(rho.map_or(step, |r: f32| r.max(step)));
+    }
+    rho
+}
+
+/// π(ν) from ρ(ν) (Eq. 9).
+#[inline]
+pub fn classify(rho: Option<f32>, rho_obstacle: f64) -> Passability {
+    match rho {
+        None => Passability::Unknown,
+        Some(r) if r > rho_obstacle as f32 => Passability::Impassable,
+        Some(_) => Passability::Passable,
+    }
+}
+
+/// Passability of every cell of a dense row-major raster (`width × height`). `known[k] == false`
+/// marks unobserved cells (all known when `None`); cells outside the raster are unknown.
+/// A known cell whose neighbours are all unknown stays [`Passability::Unknown`]: no step can be
+/// measured.
+pub fn dense_passability(
+    elevation: &[f32],
+    known: Option<&[bool]>,
+    width: usize,
+    height: usize,
+    rho_obstacle: f64,
+) -> Vec<Passability> {
+    assert_eq!(elevation.len(), width * height, "elevation raster size");
+    let is_known = |k: usize| known.is_none_or(|m| m[k]) && elevation[k].is_finite();
+    let mut out = vec![Passability::Unknown; width * height];
+    for y in 0..height {
+        for x in 0..width {
+            let k = y * width + x;
+            if !is_known(k) {
+                continue;
+            }
+            let nb = NEIGHBOURS8.iter().map(|&(di, dj)| {
+                let (nx, ny) = (x as i64 + di as i64, y as i64 + dj as i64);
+                if nx < 0 || ny < 0 || nx >= width as i64 || ny >= height as i64 {
+                    return None;
+                }
+                let nk = ny as usize * width + nx as usize;
+                is_known(nk).then(|| elevation[nk])
+            });
+            out[k] = classify(roughness(elevation[k], nb), rho_obstacle);
+        }
+    }
+    out
+}
+
+/// Configuration-space admissibility of a dense raster: a cell is admissible when it is passable
+/// and no impassable cell lies within `r_robot` (cell size `d`). Unknown cells are not admissible
+/// and do not block.
+pub fn dense_admissible(
+    pass: &[Passability],
+    width: usize,
+    height: usize,
+    r_robot: f64,
+    d: f64,
+) -> Vec<bool> {
+    assert_eq!(pass.len(), width * height, "passability raster size");
+    let disc = disc_offsets(r_robot, d);
+    let mut blocked = vec![false; width * height];
+    for y in 0..height {
+        for x in 0..width {
+            if pass[y * width + x] != Passability::Impassable {
+                continue;
+            }
+            for &(di, dj) in &disc {
+                let (nx, ny) = (x as i64 + di as i64, y as i64 + dj as i64);
+                if nx >= 0 && ny >= 0 && nx < width as i64 && ny < height as i64 {
+                    blocked[ny as usize * width + nx as usize] = true;
+                }
+            }
+        }
+    }
+    pass.iter()
+        .zip(&blocked)
+        .map(|(&p, &b)| p == Passability::Passable && !b)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hand_made_step() {
+        // 5×3 raster with a 0.3 m step between columns 1 and 2.
+        let e = [0.0f32, 0.0, 0.3, 0.3, 0.3].repeat(3);
+        let p = dense_passability(&e, None, 5, 3, 0.25);
+        let row: Vec<_> = p[5..10].to_vec();
+        use Passability::*;
+        assert_eq!(
+            row,
+            vec![Passable, Impassable, Impassable, Passable, Passable]
+        );
+        // Threshold is strict: a step equal to ρ_obstacle is passable.
+        let p = dense_passability(&e, None, 5, 3, 0.3);
+        assert!(p.iter().all(|&c| c == Passable));
+    }
+
+    #[test]
+    fn unknown_neighbours_are_ignored() {
+        let e = [0.0f32, 5.0, 0.0];
+        let known = [true, false, true];
+        let p = dense_passability(&e, Some(&known), 3, 1, 0.25);
+        assert_eq!(p, vec![Passability::Unknown; 3]);
+        let e = [0.0f32, 0.1, 5.0, 0.1];
+        let known = [true, true, false, true];
+        let p = dense_passability(&e, Some(&known), 4, 1, 0.25);
+        assert_eq!(p[0], Passability::Passable);
+        assert_eq!(p[2], Passability::Unknown);
+        assert_eq!(p[3], Passability::Unknown);
+    }
+
+    #[test]
+    fn inflation_blocks_disc() {
+        let mut pass = vec![Passability::Passable; 11 * 11];
+        pass[5 * 11 + 5] = Passability::Impassable;
+        let adm = dense_admissible(&pass, 11, 11, 0.2, 0.1);
+        let blocked = adm.iter().filter(|&&a| !a).count();
+        assert_eq!(blocked, disc_offsets(0.2, 0.1).len());
+        assert!(adm[5 * 11 + 8]);
+        assert!(!adm[5 * 11 + 7]);
+    }
+}
