@@ -30,6 +30,8 @@ pub struct ColoredPoint {
 pub struct PointCloud {
     /// Simulated or recorded time, seconds.
     pub stamp: f64,
+    /// Index of the producing sensor in the robot profile's sensor list (a frame id).
+    pub sensor: u8,
     /// Sensor origin in the world frame (needed for range-dependent noise and ray casting).
     pub origin: Point3,
     /// The returns. May contain non-finite values from a faulty source; consumers skip them.

@@ -53,6 +53,9 @@ pub struct MapParams {
     pub info_gain_stride: u32,
     /// Frontier cells closer than this to the robot are ignored (`000` r_spatial), metres.
     pub r_spatial: f64,
+    /// Returns farther than this from the sensor origin are not fused, metres (bounds the
+    /// per-scan scratch raster against stray far points).
+    pub max_point_range: f64,
 }
 
 impl Default for MapParams {
@@ -75,6 +78,7 @@ impl Default for MapParams {
             color_mode: ColorMode::RunningMean,
             info_gain_stride: 1,
             r_spatial: 0.4,
+            max_point_range: 20.0,
         }
     }
 }

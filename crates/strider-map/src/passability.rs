@@ -9,8 +9,16 @@
 //! The dense-raster functions here are the single definition of the rule: the tiled map applies
 //! the same [`roughness`] per cell, and ground-truth passability of a world is computed with
 //! [`dense_passability`] on its elevation layer.
+//!
+//! [`ElevationMap::update_passability`] maintains both layers of the tiled map incrementally
+//! (`001` Alg. 2 line 3, `recomputePassability`): π only for the cells whose elevation changed
+//! since the last call and their 8-neighbours, admissibility only within r_robot of a cell whose
+//! π changed. Both run the dense functions above on a small raster read from the tiles.
 
+use crate::map::ElevationMap;
+use crate::rect;
 use serde::{Deserialize, Serialize};
+use strider_core::CellRect;
 use strider_core::grid::{NEIGHBOURS8, disc_offsets};
 
 /// Passability of a cell.
@@ -114,6 +122,66 @@ pub fn dense_admissible(
         .collect()
 }
 
+/// Largest cell offset of the disc of radius `r` (cell size `d`), as used by [`disc_offsets`].
+pub(crate) fn disc_reach(r: f64, d: f64) -> u32 {
+    disc_offsets(r, d)
+        .iter()
+        .map(|&(di, dj)| di.unsigned_abs().max(dj.unsigned_abs()))
+        .max()
+        .unwrap_or(0)
+}
+
+impl ElevationMap {
+    /// Recomputes passability (Eq. 7–9) for the cells whose elevation changed since the last call
+    /// and their 8-neighbours, then admissibility (decision 4) within r_robot of every cell whose
+    /// passability changed. Returns the rectangle whose admissibility was recomputed (`None` when
+    /// nothing changed).
+    pub fn update_passability(&mut self) -> Option<CellRect> {
+        let dirty = self.dirty.take()?;
+        let d = self.params.cell_size;
+        let p_rect = rect::expand(dirty, 1);
+        let e_rect = rect::expand(p_rect, 1);
+        let mut elev = Vec::new();
+        let mut obs = Vec::new();
+        self.elevation.read_rect(e_rect, &mut elev);
+        self.observed.read_rect(e_rect, &mut obs);
+        let pass = dense_passability(
+            &elev,
+            Some(&obs),
+            e_rect.width as usize,
+            e_rect.height as usize,
+            self.params.rho_obstacle,
+        );
+        let new_p = rect::crop(&pass, e_rect, p_rect);
+        let mut old_p = Vec::new();
+        self.passability.read_rect(p_rect, &mut old_p);
+        let mut changed: Option<CellRect> = None;
+        for (k, (a, b)) in new_p.iter().zip(&old_p).enumerate() {
+            if a != b {
+                changed = Some(rect::include(changed, p_rect.cell(k)));
+            }
+        }
+        let changed = changed?;
+        self.passability.write_rect(p_rect, &new_p);
+
+        let reach = disc_reach(self.params.r_robot, d);
+        let a_rect = rect::expand(changed, reach);
+        let q_rect = rect::expand(a_rect, reach);
+        let mut pq = Vec::new();
+        self.passability.read_rect(q_rect, &mut pq);
+        let adm = dense_admissible(
+            &pq,
+            q_rect.width as usize,
+            q_rect.height as usize,
+            self.params.r_robot,
+            d,
+        );
+        self.admissible
+            .write_rect(a_rect, &rect::crop(&adm, q_rect, a_rect));
+        Some(a_rect)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -157,5 +225,66 @@ mod tests {
         assert_eq!(blocked, disc_offsets(0.2, 0.1).len());
         assert!(adm[5 * 11 + 8]);
         assert!(!adm[5 * 11 + 7]);
+    }
+
+    fn stepped_world() -> (Vec<f32>, Vec<bool>, CellRect) {
+        // 24 × 16 cells starting at (-10, -7): terraces, a box and a few unknown cells.
+        let r = CellRect::new(strider_core::Cell::new(-10, -7), 24, 16);
+        let mut e = vec![0.0f32; r.len()];
+        let mut known = vec![true; r.len()];
+        for (k, c) in r.cells().enumerate() {
+            e[k] = if c.i >= 4 { 0.2 } else { 0.0 } + if c.j >= 3 { 0.1 } else { 0.0 };
+            if (-3..=-1).contains(&c.i) && (-2..=0).contains(&c.j) {
+                e[k] = 0.6;
+            }
+            if c.i == 8 && c.j < -4 {
+                known[k] = false;
+            }
+        }
+        (e, known, r)
+    }
+
+    #[test]
+    fn tiled_map_matches_dense_rule() {
+        use strider_core::Rgb8;
+        let (e, known, r) = stepped_world();
+        let params = crate::MapParams {
+            cell_size: 0.1,
+            tile_size: 5,
+            rho_obstacle: 0.15,
+            r_robot: 0.2,
+            ..Default::default()
+        };
+        let mut m = ElevationMap::new(params.clone());
+        // Insert in two batches to exercise the incremental path.
+        for (k, c) in r.cells().enumerate() {
+            if known[k] && c.j < 0 {
+                m.set_cell(c, e[k], 1e-4, Rgb8::default());
+            }
+        }
+        m.update_passability();
+        for (k, c) in r.cells().enumerate() {
+            if known[k] && c.j >= 0 {
+                m.set_cell(c, e[k], 1e-4, Rgb8::default());
+            }
+        }
+        m.update_passability();
+        let (w, h) = (r.width as usize, r.height as usize);
+        let dense = dense_passability(&e, Some(&known), w, h, params.rho_obstacle);
+        assert_eq!(m.passability_raster(r), dense);
+        let adm = dense_admissible(&dense, w, h, params.r_robot, params.cell_size);
+        assert_eq!(m.admissible_raster(r), adm);
+        assert!(dense.contains(&Passability::Impassable));
+        assert!(adm.iter().any(|&a| a));
+        // Raising one cell to a pillar updates its neighbourhood incrementally.
+        let pillar = strider_core::Cell::new(-8, -5);
+        m.set_cell(pillar, 1.0, 1e-4, Rgb8::default());
+        let a = m.update_passability().unwrap();
+        assert!(a.contains(pillar));
+        assert_eq!(m.passability(pillar), Passability::Impassable);
+        // Impassable: the pillar and its 8-neighbours; r_robot = 2 cells beyond them.
+        assert!(!m.is_admissible(pillar.offset(0, 3)));
+        assert!(m.is_admissible(pillar.offset(0, 4)));
+        assert_eq!(m.update_passability(), None, "nothing dirty");
     }
 }

@@ -1,3 +1,44 @@
-//! # strider-scenario (skeleton; filled by the scenario work)
+//! # strider-scenario
+//!
+//! Scenarios: what the simulator simulates and what a mission is asked to do. A [`Scenario`] is
+//! a world (co-registered colour, elevation and terrain-type layers on the global cell lattice,
+//! plus a terrain table giving each terrain's per-gait response), a robot profile (gaits,
+//! sensors, footprint), the map, simulator and strategy parameters, a start pose, exploration
+//! bounds and benchmark tours.
+//!
+//! * [`model`]: the in-memory data model.
+//! * [`format`]: the file format (TOML naming PNG layers), [`Scenario::load`] and
+//!   [`Scenario::save`].
+//! * [`profiles`]: the built-in robot profiles.
+//! * [`builtin`]: the six procedurally generated worlds of SCENARIOS.md and their registry.
+//! * [`ground_truth`]: flood fill and nearest-cell queries over ground-truth admissibility
+//!   ([`World::gt_admissible`] applies `strider_map`'s passability rule to the true elevation).
+//!
+//! Everything here is simulator truth: the autonomy stack sees the world only through the
+//! simulated sensors.
+
+pub mod builtin;
+pub mod error;
+pub mod format;
+pub mod ground_truth;
 pub mod model;
+mod png_io;
+pub mod profiles;
+
+pub use error::ScenarioError;
 pub use model::*;
+
+impl Scenario {
+    /// A built-in scenario by name (generated with `world_seed`), or else a scenario file or
+    /// directory at path `arg` (the seed is then ignored).
+    pub fn from_name_or_file(arg: &str, world_seed: u64) -> Result<Scenario, ScenarioError> {
+        if builtin::describe(arg).is_some() {
+            return builtin::generate(arg, world_seed);
+        }
+        let path = std::path::Path::new(arg);
+        if path.exists() {
+            return Scenario::load(path);
+        }
+        Err(builtin::unknown(arg, " (not a built-in, and no such file)"))
+    }
+}

@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use strider_core::{Cell, CellRect, Point2, Pose2, Rgb8};
 use strider_map::MapParams;
+use strider_map::passability::{Passability, dense_admissible, dense_passability};
 
 /// How one gait fares on one terrain type (simulator truth, never seen by the algorithms).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -58,6 +59,56 @@ fn one() -> f64 {
     1.0
 }
 
+/// How the elevation layer is stored in its 16-bit PNG: `z = offset + scale · v` for a sample
+/// `v ∈ 0..=65535`.
+///
+/// Generators quantize their elevations with [`ElevationEncoding::quantize`], so a generated
+/// world saves and loads back bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ElevationEncoding {
+    /// Metres per 16-bit step (> 0).
+    pub scale: f64,
+    /// Elevation of sample value 0, metres.
+    #[serde(default)]
+    pub offset: f64,
+}
+
+impl Default for ElevationEncoding {
+    /// Half a millimetre per step from −1 m: covers −1 m … 31.77 m.
+    fn default() -> Self {
+        Self {
+            scale: 0.0005,
+            offset: -1.0,
+        }
+    }
+}
+
+impl ElevationEncoding {
+    /// Elevation of sample `v`, metres.
+    #[inline]
+    pub fn decode(self, v: u16) -> f32 {
+        (self.offset + self.scale * v as f64) as f32
+    }
+    /// Sample for elevation `z` (nearest step), or `None` when `z` is not finite or out of range.
+    #[inline]
+    pub fn encode(self, z: f32) -> Option<u16> {
+        let v = ((z as f64 - self.offset) / self.scale).round();
+        (v.is_finite() && (0.0..=65535.0).contains(&v)).then_some(v as u16)
+    }
+    /// `z` snapped to the nearest representable elevation (clamped to the covered range).
+    #[inline]
+    pub fn quantize(self, z: f32) -> f32 {
+        let v = ((z as f64 - self.offset) / self.scale).round();
+        let v = if v.is_finite() {
+            v.clamp(0.0, 65535.0)
+        } else {
+            0.0
+        };
+        self.decode(v as u16)
+    }
+}
+
 /// The simulated world: co-registered layers on the global cell lattice plus the terrain table.
 #[derive(Clone, Debug, PartialEq)]
 pub struct World {
@@ -76,6 +127,57 @@ pub struct World {
 }
 
 impl World {
+    /// Layer width (columns).
+    pub fn width(&self) -> usize {
+        self.rect.width as usize
+    }
+    /// Layer height (rows).
+    pub fn height(&self) -> usize {
+        self.rect.height as usize
+    }
+    /// World coordinates of the lower-left corner of the layers.
+    pub fn origin(&self) -> Point2 {
+        Point2::new(
+            self.rect.min.i as f64 * self.resolution,
+            self.rect.min.j as f64 * self.resolution,
+        )
+    }
+    /// The area the layers cover, as bounds (lower-left and upper-right corners).
+    pub fn extent(&self) -> Bounds {
+        let o = self.origin();
+        Bounds {
+            min: o,
+            max: Point2::new(
+                o.x + self.rect.width as f64 * self.resolution,
+                o.y + self.rect.height as f64 * self.resolution,
+            ),
+        }
+    }
+    /// Centre of the cell at layer index `k` (must be `< rect.len()`).
+    pub fn cell_center(&self, k: usize) -> Point2 {
+        self.rect.cell(k).center(self.resolution)
+    }
+    /// True when `p` lies on a cell of the layers.
+    pub fn contains(&self, p: Point2) -> bool {
+        self.index_at(p).is_some()
+    }
+    /// Ground-truth passability of every cell (`001` Eq. 7–9 on the true elevation, all cells
+    /// known), row-major like the layers.
+    pub fn gt_passability(&self, rho_obstacle: f64) -> Vec<Passability> {
+        dense_passability(
+            &self.elevation,
+            None,
+            self.width(),
+            self.height(),
+            rho_obstacle,
+        )
+    }
+    /// Ground-truth admissibility of every cell for a robot of footprint radius `r_robot`
+    /// (decision 4: passable, with no impassable cell within `r_robot`), row-major.
+    pub fn gt_admissible(&self, rho_obstacle: f64, r_robot: f64) -> Vec<bool> {
+        let pass = self.gt_passability(rho_obstacle);
+        dense_admissible(&pass, self.width(), self.height(), r_robot, self.resolution)
+    }
     /// Layer index of the cell containing world point `p`, if inside.
     pub fn index_at(&self, p: Point2) -> Option<usize> {
         Cell::containing(p.x, p.y, self.resolution).and_then(|c| self.rect.index(c))
@@ -106,9 +208,12 @@ pub enum SensorKind {
         hfov_deg: f64,
         /// Vertical field of view, degrees.
         vfov_deg: f64,
-        /// Image columns.
+        /// Image columns (file key `width_px`: a plain `width`/`height` would collide with
+        /// [`SensorSpec::height`] through `#[serde(flatten)]`).
+        #[serde(rename = "width_px")]
         width: u32,
-        /// Image rows.
+        /// Image rows (file key `height_px`).
+        #[serde(rename = "height_px")]
         height: u32,
         /// Downward tilt of the optical axis, degrees.
         #[serde(default)]
@@ -128,8 +233,10 @@ pub enum SensorKind {
 }
 
 /// A range sensor mounted on the robot.
+///
+/// (No `deny_unknown_fields` here: serde does not support it together with `flatten`; unknown
+/// keys are still rejected by [`SensorKind`], which receives every key this struct does not use.)
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct SensorSpec {
     /// Geometry.
     #[serde(flatten)]
@@ -182,6 +289,10 @@ pub struct RobotProfile {
     /// Has a haptic bumper (C4).
     #[serde(default)]
     pub bumper: bool,
+    /// Largest force the robot exerts when walking into an obstacle, newtons (C4): cells whose
+    /// terrain's `push_force_n` is at most this can be pushed through. 0: cannot push.
+    #[serde(default)]
+    pub max_push_force_n: f64,
 }
 
 fn max_step() -> f64 {
@@ -237,6 +348,7 @@ impl Default for SimParams {
 
 /// Exploration bounds: goals outside are dropped (decision 5).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Bounds {
     /// Lower-left corner.
     pub min: Point2,
@@ -253,6 +365,7 @@ impl Bounds {
 
 /// A benchmark tour: waypoints visited in order (`001` §5).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Tour {
     /// Tour name.
     pub name: String,
@@ -264,7 +377,7 @@ pub struct Tour {
 }
 
 /// A complete scenario.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Scenario {
     /// Scenario name.
     pub name: String,
@@ -290,4 +403,7 @@ pub struct Scenario {
     pub tours: Vec<Tour>,
     /// Mission time limit, simulated seconds.
     pub time_limit_s: f64,
+    /// How the world's elevation layer is written to (and was read from) its 16-bit PNG; the
+    /// world's elevations must be representable in it for [`Scenario::save`].
+    pub elevation_encoding: ElevationEncoding,
 }

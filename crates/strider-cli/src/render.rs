@@ -1,0 +1,211 @@
+//! Rendering of grid layers to PNG: colour, scalar fields with a colormap, class indices with a
+//! palette, and overlays (tours, paths, points). Rasters are row-major with row 0 the lowest y
+//! (the global lattice); images are written north-up, so rows are flipped here and only here.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use image::{Rgb, RgbImage};
+use strider_core::{CellRect, Point2, Rgb8};
+
+/// An RGB canvas over a cell rectangle, north up.
+pub struct Canvas {
+    img: RgbImage,
+    rect: CellRect,
+    resolution: f64,
+    scale: u32,
+}
+
+/// Colour used for unknown/NaN cells.
+pub const UNKNOWN: [u8; 3] = [40, 40, 48];
+
+impl Canvas {
+    /// A canvas over `rect` (cell size `resolution`), each cell drawn as `scale × scale` pixels.
+    pub fn new(rect: CellRect, resolution: f64, scale: u32) -> Self {
+        let scale = scale.max(1);
+        Self {
+            img: RgbImage::from_pixel(rect.width * scale, rect.height * scale, Rgb(UNKNOWN)),
+            rect,
+            resolution,
+            scale,
+        }
+    }
+
+    /// A scale that makes the longer side about `target` pixels (at least 1 pixel per cell).
+    pub fn auto_scale(rect: CellRect, target: u32) -> u32 {
+        (target / rect.width.max(rect.height).max(1)).clamp(1, 16)
+    }
+
+    fn put_cell(&mut self, k: usize, c: [u8; 3]) {
+        let w = self.rect.width as usize;
+        let (x, y) = ((k % w) as u32, (k / w) as u32);
+        let y_img = self.rect.height - 1 - y;
+        for dy in 0..self.scale {
+            for dx in 0..self.scale {
+                self.img
+                    .put_pixel(x * self.scale + dx, y_img * self.scale + dy, Rgb(c));
+            }
+        }
+    }
+
+    /// Fills every cell from a per-cell colour function (`None`: unknown colour).
+    pub fn fill(&mut self, mut f: impl FnMut(usize) -> Option<[u8; 3]>) {
+        for k in 0..self.rect.len() {
+            let c = f(k).unwrap_or(UNKNOWN);
+            self.put_cell(k, c);
+        }
+    }
+
+    /// World point to pixel coordinates (may lie outside).
+    fn to_px(&self, p: Point2) -> (f64, f64) {
+        let s = self.scale as f64;
+        let x = (p.x / self.resolution - self.rect.min.i as f64) * s;
+        let y = (p.y / self.resolution - self.rect.min.j as f64) * s;
+        (x, self.rect.height as f64 * s - y)
+    }
+
+    fn plot(&mut self, x: i64, y: i64, c: [u8; 3]) {
+        if x >= 0 && y >= 0 && (x as u32) < self.img.width() && (y as u32) < self.img.height() {
+            self.img.put_pixel(x as u32, y as u32, Rgb(c));
+        }
+    }
+
+    /// Draws a polyline through world points.
+    pub fn polyline(&mut self, pts: &[Point2], c: [u8; 3], width: i64) {
+        for w in pts.windows(2) {
+            let (a, b) = (self.to_px(w[0]), self.to_px(w[1]));
+            let n = ((b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil() as usize).max(1);
+            for s in 0..=n {
+                let t = s as f64 / n as f64;
+                let (x, y) = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
+                for dy in -(width / 2)..=(width / 2) {
+                    for dx in -(width / 2)..=(width / 2) {
+                        self.plot(x as i64 + dx, y as i64 + dy, c);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Draws a filled square marker of half-size `r` pixels at a world point.
+    pub fn marker(&mut self, p: Point2, c: [u8; 3], r: i64) {
+        let (x, y) = self.to_px(p);
+        for dy in -r..=r {
+            for dx in -r..=r {
+                self.plot(x as i64 + dx, y as i64 + dy, c);
+            }
+        }
+    }
+
+    /// Writes the PNG.
+    pub fn save(&self, path: &Path) -> Result<()> {
+        self.img
+            .save(path)
+            .with_context(|| format!("{}: cannot write PNG", path.display()))
+    }
+}
+
+/// Perceptually ordered colormap (a compact viridis approximation), `t` in [0, 1].
+pub fn viridis(t: f64) -> [u8; 3] {
+    const STOPS: [[f64; 3]; 6] = [
+        [68.0, 1.0, 84.0],
+        [65.0, 68.0, 135.0],
+        [42.0, 120.0, 142.0],
+        [34.0, 168.0, 132.0],
+        [122.0, 209.0, 81.0],
+        [253.0, 231.0, 37.0],
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * (STOPS.len() - 1) as f64;
+    let k = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - k as f64;
+    let mut c = [0u8; 3];
+    for ch in 0..3 {
+        c[ch] = (STOPS[k][ch] * (1.0 - f) + STOPS[k + 1][ch] * f).round() as u8;
+    }
+    c
+}
+
+/// Distinct colours for class indices.
+pub fn palette(k: usize) -> [u8; 3] {
+    const P: [[u8; 3]; 12] = [
+        [141, 160, 203],
+        [230, 85, 13],
+        [49, 163, 84],
+        [140, 86, 75],
+        [117, 107, 177],
+        [222, 45, 38],
+        [253, 208, 162],
+        [99, 99, 99],
+        [188, 189, 34],
+        [23, 190, 207],
+        [247, 182, 210],
+        [255, 237, 111],
+    ];
+    P[k % P.len()]
+}
+
+/// Renders a scalar raster with [`viridis`] between its finite min and max (or the given range).
+/// Returns the range used.
+pub fn scalar_canvas(
+    rect: CellRect,
+    resolution: f64,
+    scale: u32,
+    values: &[f32],
+    range: Option<(f32, f32)>,
+) -> (Canvas, (f32, f32)) {
+    let (lo, hi) = range.unwrap_or_else(|| {
+        values
+            .iter()
+            .filter(|v| v.is_finite())
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            })
+    });
+    let (lo, hi) = if lo.is_finite() && hi.is_finite() {
+        (lo, hi)
+    } else {
+        (0.0, 1.0)
+    };
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let mut c = Canvas::new(rect, resolution, scale);
+    c.fill(|k| {
+        let v = values[k];
+        v.is_finite().then(|| viridis(((v - lo) / span) as f64))
+    });
+    (c, (lo, hi))
+}
+
+/// Renders an RGB raster.
+pub fn rgb_canvas(rect: CellRect, resolution: f64, scale: u32, colors: &[Option<Rgb8>]) -> Canvas {
+    let mut c = Canvas::new(rect, resolution, scale);
+    c.fill(|k| colors[k].map(|c| c.0));
+    c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use strider_core::Cell;
+
+    #[test]
+    fn rows_are_flipped_north_up() {
+        let rect = CellRect::new(Cell::new(0, 0), 2, 2);
+        let mut c = Canvas::new(rect, 1.0, 1);
+        c.fill(|k| (k == 0).then_some([255, 0, 0]));
+        // Cell (0,0) is the lowest row: bottom-left pixel.
+        assert_eq!(c.img.get_pixel(0, 1).0, [255, 0, 0]);
+        assert_eq!(c.img.get_pixel(0, 0).0, UNKNOWN);
+    }
+
+    #[test]
+    fn viridis_ends() {
+        assert_eq!(viridis(0.0), [68, 1, 84]);
+        assert_eq!(viridis(1.0), [253, 231, 37]);
+        assert_eq!(viridis(f64::NAN), [68, 1, 84]);
+    }
+}

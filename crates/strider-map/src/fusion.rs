@@ -1,0 +1,472 @@
+//! Elevation fusion: `updateMapByRangeMeasurements` of `001` Alg. 2 (§4.2), decision 2.
+//!
+//! Per scan, the highest return in each cell is that cell's measurement z (a 2.5D map keeps the
+//! top surface). Its variance is σ_z² = σ_d² + (k_d · range²)², range = distance from the sensor
+//! origin. Each cell runs a 1-D Kalman filter (Fankhauser et al. 2014):
+//!
+//! * first measurement: h = z, σ_h² = σ_z²;
+//! * Mahalanobis gate: if |z − h| / √(σ_h² + σ_z²) > `mahalanobis_gate`, z is not fused and
+//!   σ_h² += `multi_height_noise` (so a changed surface is eventually re-acquired);
+//! * otherwise h ← (σ_z² h + σ_h² z) / (σ_h² + σ_z²), σ_h² ← σ_h² σ_z² / (σ_h² + σ_z²).
+//!
+//! **Mixed-cell rule.** World and map cells are aligned, so returns from a wall's vertical face sit
+//! on a cell edge and depth noise pushes about half of them into the lower neighbour, where they
+//! would become its highest point. A return within 3σ of a cell edge whose z lies more than 3σ
+//! below this scan's maximum in the neighbour across that edge is attributed to the neighbour's
+//! face and ignored for its own cell. This needs two passes per scan over a scratch raster
+//! covering the scan's bounding box; the raster is reused, so steady-state fusion allocates
+//! nothing.
+
+use crate::map::ElevationMap;
+use crate::params::ColorMode;
+use strider_core::{Cell, CellRect, PointCloud};
+
+/// What one call to [`ElevationMap::fuse`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FuseStats {
+    /// Finite returns within `max_point_range` that entered their cell's per-scan maximum.
+    pub fused_points: usize,
+    /// Returns with a non-finite coordinate (or a scan with a non-finite origin).
+    pub skipped_non_finite: usize,
+    /// Returns farther than `max_point_range` from the sensor origin.
+    pub skipped_out_of_range: usize,
+    /// Returns attributed to a neighbour's vertical face by the mixed-cell rule.
+    pub face_points: usize,
+    /// Cells that received a measurement this scan (initialised, fused or gated).
+    pub cells_updated: usize,
+    /// Cells whose measurement was rejected by the Mahalanobis gate.
+    pub cells_gated: usize,
+}
+
+/// Per-scan scratch rasters over the scan's bounding box, reused between scans.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FusionScratch {
+    /// Highest return per cell (pass 1), −∞ where none.
+    max_z: Vec<f32>,
+    /// Highest return kept per cell (pass 2), −∞ where none.
+    best_z: Vec<f32>,
+    /// σ_z² of the kept return.
+    best_var: Vec<f32>,
+    /// Colour of the kept return.
+    best_rgb: Vec<[u8; 3]>,
+}
+
+/// A return's squared range from the origin when it is usable: `Ok(range²)`, or
+/// `Err(true)` for non-finite and `Err(false)` for out of range.
+#[inline(always)]
+fn classify_point(p: &strider_core::ColoredPoint, o: [f32; 3], max_r2: f32) -> Result<f32, bool> {
+    if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
+        return Err(true);
+    }
+    let (dx, dy, dz) = (p.x - o[0], p.y - o[1], p.z - o[2]);
+    let r2 = dx * dx + dy * dy + dz * dz;
+    if r2 <= max_r2 { Ok(r2) } else { Err(false) }
+}
+
+/// `v.floor()` for |v| < 2⁶², without a libm call on baseline x86-64 (no SSE4.1 `roundsd`).
+#[inline(always)]
+fn fast_floor(v: f64) -> f64 {
+    let t = v as i64 as f64;
+    if t > v { t - 1.0 } else { t }
+}
+
+impl ElevationMap {
+    /// Fuses one scan (decision 2, with the mixed-cell rule). Non-finite returns are skipped and
+    /// counted, never a panic. Marks changed cells for [`ElevationMap::update_passability`];
+    /// use [`ElevationMap::integrate`] to do both.
+    pub fn fuse(&mut self, cloud: &PointCloud) -> FuseStats {
+        let mut stats = FuseStats::default();
+        let o = cloud.origin;
+        if !(o.x.is_finite() && o.y.is_finite() && o.z.is_finite()) {
+            stats.skipped_non_finite = cloud.points.len();
+            return stats;
+        }
+        let d = self.params.cell_size;
+        let o = [o.x as f32, o.y as f32, o.z as f32];
+        let max_r = self.params.max_point_range.min(1e6) as f32;
+        let max_r2 = max_r * max_r;
+        let sd2 = (self.params.sigma_d * self.params.sigma_d) as f32;
+        let kd = self.params.k_d as f32;
+        let inv_d = (1.0 / d) as f32;
+
+        // Pass 0: bounding box and counts.
+        let (mut x0, mut y0, mut x1, mut y1) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN);
+        for p in &cloud.points {
+            match classify_point(p, o, max_r2) {
+                Ok(_) => {
+                    x0 = x0.min(p.x);
+                    x1 = x1.max(p.x);
+                    y0 = y0.min(p.y);
+                    y1 = y1.max(p.y);
+                }
+                Err(true) => stats.skipped_non_finite += 1,
+                Err(false) => stats.skipped_out_of_range += 1,
+            }
+        }
+        self.scans += 1;
+        let (Some(lo), Some(hi)) = (
+            Cell::containing(x0 as f64, y0 as f64, d),
+            Cell::containing(x1 as f64, y1 as f64, d),
+        ) else {
+            return stats;
+        };
+        let rect = crate::rect::from_corners(lo, hi);
+        let w = rect.width as usize;
+        let n = rect.len();
+        let s = &mut self.scratch;
+        s.max_z.clear();
+        s.max_z.resize(n, f32::NEG_INFINITY);
+        s.best_z.clear();
+        s.best_z.resize(n, f32::NEG_INFINITY);
+        s.best_var.clear();
+        s.best_var.resize(n, 0.0);
+        s.best_rgb.clear();
+        s.best_rgb.resize(n, [0; 3]);
+        let (mi, mj) = (rect.min.i as f64, rect.min.j as f64);
+        // Cell coordinates relative to the rect, computed exactly like `Cell::containing`.
+        let locate = |p: &strider_core::ColoredPoint| -> (usize, usize, f32, f32) {
+            let fx = p.x as f64 / d;
+            let fy = p.y as f64 / d;
+            let (cx, cy) = (fast_floor(fx), fast_floor(fy));
+            (
+                (cx - mi) as usize,
+                (cy - mj) as usize,
+                (fx - cx) as f32,
+                (fy - cy) as f32,
+            )
+        };
+
+        // Pass 1: highest return per cell.
+        for p in &cloud.points {
+            if classify_point(p, o, max_r2).is_ok() {
+                let (ci, cj, _, _) = locate(p);
+                let k = cj * w + ci;
+                let m = &mut s.max_z[k];
+                *m = m.max(p.z);
+            }
+        }
+
+        // Pass 2: mixed-cell rule, then the highest kept return per cell is the measurement.
+        let hgt = rect.height as usize;
+        for p in &cloud.points {
+            let Ok(r2) = classify_point(p, o, max_r2) else {
+                continue;
+            };
+            let (ci, cj, u, v) = locate(p);
+            let k = cj * w + ci;
+            let kr = kd * r2;
+            let var = sd2 + kr * kr;
+            let sigma3 = 3.0 * var.sqrt();
+            let edge = sigma3 * inv_d; // 3σ in cell units
+            let below = |nk: usize| p.z < s.max_z[nk] - sigma3;
+            let face = (u < edge && ci > 0 && below(k - 1))
+                || (u > 1.0 - edge && ci + 1 < w && below(k + 1))
+                || (v < edge && cj > 0 && below(k - w))
+                || (v > 1.0 - edge && cj + 1 < hgt && below(k + w));
+            if face {
+                stats.face_points += 1;
+                continue;
+            }
+            stats.fused_points += 1;
+            if p.z > s.best_z[k] {
+                s.best_z[k] = p.z;
+                s.best_var[k] = var;
+                s.best_rgb[k] = p.rgb;
+            }
+        }
+
+        self.apply_measurements(rect, &mut stats);
+        stats
+    }
+
+    /// Kalman update of every cell with a measurement in the scratch rasters, tile by tile (one
+    /// lookup per tile and layer).
+    fn apply_measurements(&mut self, rect: CellRect, stats: &mut FuseStats) {
+        let ElevationMap {
+            params,
+            elevation,
+            variance,
+            color,
+            hits,
+            observed,
+            passability,
+            admissible,
+            known_bounds,
+            observed_count,
+            dirty,
+            scratch: s,
+            ..
+        } = self;
+        let gate = params.mahalanobis_gate;
+        let noise = params.multi_height_noise as f32;
+        let first_seen = params.color_mode == ColorMode::FirstSeen;
+        let ts = elevation.tile_size() as i32;
+        let w = rect.width as usize;
+        let (mut lo, mut hi) = ((i32::MAX, i32::MAX), (i32::MIN, i32::MIN));
+        let (mut klo, mut khi) = ((i32::MAX, i32::MAX), (i32::MIN, i32::MIN));
+        let (ri1, rj1) = crate::rect::max_corner(rect);
+        for tj in rect.min.j.div_euclid(ts)..=rj1.div_euclid(ts) {
+            for ti in rect.min.i.div_euclid(ts)..=ri1.div_euclid(ts) {
+                let key = crate::tiles::TileKey { ti, tj };
+                let Some(ov) = crate::rect::intersection(rect, elevation.tile_rect(key)) else {
+                    continue;
+                };
+                let rk = |c: Cell| (c.j - rect.min.j) as usize * w + (c.i - rect.min.i) as usize;
+                if !ov.cells().any(|c| s.best_z[rk(c)] > f32::NEG_INFINITY) {
+                    continue;
+                }
+                let el = elevation.tile_or_insert(key);
+                let va = variance.tile_or_insert(key);
+                let co = color.tile_or_insert(key);
+                let hi_t = hits.tile_or_insert(key);
+                let ob = observed.tile_or_insert(key);
+                passability.tile_or_insert(key);
+                admissible.tile_or_insert(key);
+                for c in ov.cells() {
+                    let k = rk(c);
+                    let z = s.best_z[k];
+                    if z == f32::NEG_INFINITY {
+                        continue;
+                    }
+                    stats.cells_updated += 1;
+                    let t = ((c.j - tj * ts) * ts + (c.i - ti * ts)) as usize;
+                    let r = s.best_var[k];
+                    let rgb = s.best_rgb[k].map(f32::from);
+                    if !ob[t] {
+                        ob[t] = true;
+                        *observed_count += 1;
+                        el[t] = z;
+                        va[t] = r;
+                        co[t] = rgb;
+                        hi_t[t] = 1;
+                        klo = (klo.0.min(c.i), klo.1.min(c.j));
+                        khi = (khi.0.max(c.i), khi.1.max(c.j));
+                    } else {
+                        let (h, p) = (el[t] as f64, va[t] as f64);
+                        let (zf, rf) = (z as f64, r as f64);
+                        let sum = p + rf;
+                        if (zf - h).abs() > gate * sum.sqrt() {
+                            va[t] += noise;
+                            stats.cells_gated += 1;
+                            continue;
+                        }
+                        el[t] = ((rf * h + p * zf) / sum) as f32;
+                        va[t] = (p * rf / sum) as f32;
+                        hi_t[t] = hi_t[t].saturating_add(1);
+                        if !first_seen {
+                            let inv = 1.0 / hi_t[t] as f32;
+                            for ch in 0..3 {
+                                co[t][ch] += (rgb[ch] - co[t][ch]) * inv;
+                            }
+                        }
+                    }
+                    lo = (lo.0.min(c.i), lo.1.min(c.j));
+                    hi = (hi.0.max(c.i), hi.1.max(c.j));
+                }
+            }
+        }
+        if lo.0 <= hi.0 {
+            let r = crate::rect::from_corners(Cell::new(lo.0, lo.1), Cell::new(hi.0, hi.1));
+            *dirty = Some(dirty.map_or(r, |d| crate::rect::union(d, r)));
+        }
+        if klo.0 <= khi.0 {
+            let r = crate::rect::from_corners(Cell::new(klo.0, klo.1), Cell::new(khi.0, khi.1));
+            *known_bounds = Some(known_bounds.map_or(r, |b| crate::rect::union(b, r)));
+        }
+    }
+
+    /// Fuses a scan and updates passability and admissibility of the affected region
+    /// (`001` Alg. 2 lines 2–3).
+    pub fn integrate(&mut self, cloud: &PointCloud) -> FuseStats {
+        let stats = self.fuse(cloud);
+        self.update_passability();
+        stats
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::MapParams;
+    use approx::assert_abs_diff_eq;
+    use strider_core::{ColoredPoint, Point3};
+
+    fn cloud(origin: Point3, pts: &[(f32, f32, f32)]) -> PointCloud {
+        PointCloud {
+            stamp: 0.0,
+            sensor: 0,
+            origin,
+            points: pts
+                .iter()
+                .map(|&(x, y, z)| ColoredPoint {
+                    x,
+                    y,
+                    z,
+                    rgb: [100, 150, 200],
+                })
+                .collect(),
+        }
+    }
+
+    fn params() -> MapParams {
+        MapParams {
+            cell_size: 0.1,
+            tile_size: 8,
+            ..MapParams::default()
+        }
+    }
+
+    #[test]
+    fn kalman_matches_closed_form() {
+        let p = MapParams {
+            mahalanobis_gate: 1e9,
+            ..params()
+        };
+        let mut m = ElevationMap::new(p.clone());
+        // The cell (5, 5) centre at (0.55, 0.55); sensors at different heights give different
+        // ranges, hence different σ_z².
+        let zs = [0.10f32, 0.12, 0.09, 0.115, 0.101];
+        let mut num = 0.0;
+        let mut den = 0.0;
+        for (k, &z) in zs.iter().enumerate() {
+            let origin = Point3::new(0.55, 0.55, 0.5 + k as f64);
+            let c = cloud(origin, &[(0.55, 0.55, z)]);
+            let s = m.fuse(&c);
+            assert_eq!(s.cells_updated, 1);
+            let r2 = (origin.z - z as f64).powi(2);
+            let var = p.sigma_d.powi(2) + (p.k_d * r2).powi(2);
+            num += z as f64 / var;
+            den += 1.0 / var;
+        }
+        let c = Cell::new(5, 5);
+        assert_abs_diff_eq!(m.elevation(c).unwrap() as f64, num / den, epsilon = 1e-6);
+        let rel = (m.variance(c).unwrap() as f64 - 1.0 / den).abs() / (1.0 / den);
+        assert!(rel < 1e-4, "variance rel. error {rel}");
+        assert_eq!(m.hits(c), 5);
+    }
+
+    #[test]
+    fn highest_point_per_cell_and_gate() {
+        let mut m = ElevationMap::new(params());
+        let o = Point3::new(0.0, 0.0, 1.0);
+        let s = m.fuse(&cloud(
+            o,
+            &[(0.25, 0.25, 0.1), (0.22, 0.28, 0.3), (0.27, 0.21, 0.2)],
+        ));
+        assert_eq!(s.fused_points, 3);
+        assert_eq!(s.cells_updated, 1);
+        assert_eq!(m.elevation(Cell::new(2, 2)), Some(0.3));
+        // A far outlier is gated: elevation unchanged, variance inflated.
+        let v0 = m.variance(Cell::new(2, 2)).unwrap();
+        let s = m.fuse(&cloud(o, &[(0.25, 0.25, 0.8)]));
+        assert_eq!(s.cells_gated, 1);
+        assert_eq!(m.elevation(Cell::new(2, 2)), Some(0.3));
+        assert_abs_diff_eq!(
+            m.variance(Cell::new(2, 2)).unwrap(),
+            v0 + 1e-5,
+            epsilon = 1e-9
+        );
+    }
+
+    #[test]
+    fn non_finite_points_are_skipped_and_counted() {
+        let mut m = ElevationMap::new(params());
+        let o = Point3::new(0.0, 0.0, 1.0);
+        let s = m.fuse(&cloud(
+            o,
+            &[
+                (f32::NAN, 0.0, 0.0),
+                (0.0, f32::INFINITY, 0.0),
+                (0.0, 0.0, f32::NEG_INFINITY),
+                (0.05, 0.05, 0.0),
+                (1e30, 0.0, 0.0),
+            ],
+        ));
+        assert_eq!(s.skipped_non_finite, 3);
+        assert_eq!(s.skipped_out_of_range, 1);
+        assert_eq!(s.fused_points, 1);
+        let s = m.fuse(&cloud(Point3::new(f64::NAN, 0.0, 0.0), &[(0.0, 0.0, 0.0)]));
+        assert_eq!(s.skipped_non_finite, 1);
+        let s = m.fuse(&cloud(o, &[]));
+        assert_eq!(s, FuseStats::default());
+        assert_eq!(m.observed_count(), 1);
+    }
+
+    #[test]
+    fn mixed_cell_rule_ignores_wall_face_returns() {
+        // A wall occupies cells i ≥ 10 (x ≥ 1.0) with top at 0.5 m; the floor (z = 0) lies at
+        // x < 1.0. The sensor at x = 0 sees the floor, the wall's face at x = 1.0 (noisy in x)
+        // and the wall top.
+        let mut m = ElevationMap::new(params());
+        let o = Point3::new(0.0, 0.55, 0.8);
+        let mut pts = Vec::new();
+        let mut rng = 12345u64;
+        let mut noise = || {
+            rng = rng
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((rng >> 33) as f32 / (1u64 << 31) as f32 - 0.5) * 0.004 // ±2 mm
+        };
+        for k in 0..10 {
+            let y = 0.51 + 0.008 * k as f32;
+            for a in 0..10 {
+                pts.push((0.9 + 0.01 * a as f32 + 0.005, y, noise())); // floor cell 9
+                pts.push((1.0 + noise(), y, 0.05 * a as f32)); // face at x = 1.0
+                pts.push((1.005 + 0.01 * a as f32, y, 0.5 + noise())); // wall top cell 10
+            }
+        }
+        let s = m.fuse(&cloud(o, &pts));
+        assert!(s.face_points > 0);
+        let floor = m.elevation(Cell::new(9, 5)).unwrap();
+        assert!(floor.abs() < 0.01, "floor cell corrupted: {floor}");
+        let top = m.elevation(Cell::new(10, 5)).unwrap();
+        assert!((top - 0.5).abs() < 0.01, "wall top {top}");
+    }
+
+    #[test]
+    fn running_mean_and_first_seen_colour() {
+        let o = Point3::new(0.0, 0.0, 1.0);
+        let mk = |rgb: [u8; 3]| PointCloud {
+            stamp: 0.0,
+            sensor: 0,
+            origin: o,
+            points: vec![ColoredPoint {
+                x: 0.05,
+                y: 0.05,
+                z: 0.0,
+                rgb,
+            }],
+        };
+        let mut m = ElevationMap::new(params());
+        m.fuse(&mk([100, 0, 0]));
+        m.fuse(&mk([200, 50, 0]));
+        assert_eq!(
+            m.color(Cell::new(0, 0)),
+            Some(strider_core::Rgb8::new(150, 25, 0))
+        );
+        let mut m = ElevationMap::new(MapParams {
+            color_mode: ColorMode::FirstSeen,
+            ..params()
+        });
+        m.fuse(&mk([100, 0, 0]));
+        m.fuse(&mk([200, 50, 0]));
+        assert_eq!(
+            m.color(Cell::new(0, 0)),
+            Some(strider_core::Rgb8::new(100, 0, 0))
+        );
+    }
+
+    #[test]
+    fn map_grows_into_negative_coordinates() {
+        let mut m = ElevationMap::new(params());
+        let o = Point3::new(0.0, 0.0, 1.0);
+        m.fuse(&cloud(o, &[(-3.05, -2.05, 0.1), (2.05, 1.05, 0.2)]));
+        assert_eq!(m.elevation_at(-3.05, -2.05), Some(0.1));
+        assert_eq!(m.elevation(Cell::new(20, 10)), Some(0.2));
+        assert_eq!(
+            m.known_bounds(),
+            Some(CellRect::new(Cell::new(-31, -21), 52, 32))
+        );
+        assert_eq!(m.elevation_layer().tile_count(), 2);
+    }
+}

@@ -1,0 +1,178 @@
+//! Cells reachable from the robot: an 8-connected flood fill over admissible cells (decision 4;
+//! `000` "reachable cells", `001` candidates of Eq. 11).
+
+use crate::map::ElevationMap;
+use std::collections::VecDeque;
+use strider_core::grid::NEIGHBOURS8;
+use strider_core::{Cell, CellRect};
+
+/// The set of cells reachable from a start cell, as a bitmap over the map's known bounds.
+/// Reusable: [`Reachability::recompute`] keeps the buffers.
+#[derive(Clone, Debug)]
+pub struct Reachability {
+    rect: CellRect,
+    start: Option<Cell>,
+    reach: Vec<bool>,
+    admissible: Vec<bool>,
+    queue: VecDeque<usize>,
+    count: usize,
+}
+
+impl Default for Reachability {
+    fn default() -> Self {
+        Self {
+            rect: CellRect::new(Cell::default(), 0, 0),
+            start: None,
+            reach: Vec::new(),
+            admissible: Vec::new(),
+            queue: VecDeque::new(),
+            count: 0,
+        }
+    }
+}
+
+impl Reachability {
+    /// The cells reachable from `start` over admissible cells (8-connected). The start cell
+    /// itself is included whenever it is observed, even when not admissible (the robot may stand
+    /// close to an obstacle); the fill continues only through admissible cells.
+    pub fn compute(map: &ElevationMap, start: Cell) -> Self {
+        let mut r = Self::default();
+        r.recompute(map, start);
+        r
+    }
+
+    /// Recomputes in place, reusing the buffers.
+    pub fn recompute(&mut self, map: &ElevationMap, start: Cell) {
+        self.rect = map.known_bounds().unwrap_or(CellRect::new(start, 0, 0));
+        self.start = Some(start);
+        map.admissible_layer()
+            .read_rect(self.rect, &mut self.admissible);
+        self.reach.clear();
+        self.reach.resize(self.rect.len(), false);
+        self.queue.clear();
+        self.count = 0;
+        let Some(s) = self.rect.index(start) else {
+            return;
+        };
+        if !map.is_observed(start) {
+            return;
+        }
+        self.reach[s] = true;
+        self.count = 1;
+        self.queue.push_back(s);
+        let (w, h) = (self.rect.width as i64, self.rect.height as i64);
+        while let Some(k) = self.queue.pop_front() {
+            let (x, y) = ((k as i64) % w, (k as i64) / w);
+            for &(di, dj) in &NEIGHBOURS8 {
+                let (nx, ny) = (x + di as i64, y + dj as i64);
+                if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                    continue;
+                }
+                let nk = (ny * w + nx) as usize;
+                if self.admissible[nk] && !self.reach[nk] {
+                    self.reach[nk] = true;
+                    self.count += 1;
+                    self.queue.push_back(nk);
+                }
+            }
+        }
+    }
+
+    /// The start cell of the last computation.
+    pub fn start(&self) -> Option<Cell> {
+        self.start
+    }
+
+    /// The rectangle the bitmap covers.
+    pub fn rect(&self) -> CellRect {
+        self.rect
+    }
+
+    /// True when `c` is reachable.
+    #[inline]
+    pub fn contains(&self, c: Cell) -> bool {
+        self.rect.index(c).is_some_and(|k| self.reach[k])
+    }
+
+    /// True when `c` is reachable and admissible (a cell the robot's centre may be sent to).
+    #[inline]
+    pub fn is_goal_cell(&self, c: Cell) -> bool {
+        self.rect
+            .index(c)
+            .is_some_and(|k| self.reach[k] && self.admissible[k])
+    }
+
+    /// The bitmap over [`Reachability::rect`], row-major.
+    pub fn bitmap(&self) -> &[bool] {
+        &self.reach
+    }
+
+    /// Number of reachable cells.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// The reachable cells in row-major order.
+    pub fn cells(&self) -> impl Iterator<Item = Cell> + '_ {
+        self.reach
+            .iter()
+            .enumerate()
+            .filter(|&(_, &r)| r)
+            .map(|(k, _)| self.rect.cell(k))
+    }
+
+    /// The reachable admissible cell nearest to `target` (Euclidean, ties in row-major order),
+    /// optionally restricted by `accept`; `None` when there is none.
+    pub fn nearest_goal_cell(&self, target: Cell, accept: impl Fn(Cell) -> bool) -> Option<Cell> {
+        let mut best: Option<(i64, Cell)> = None;
+        for (k, (&r, &a)) in self.reach.iter().zip(&self.admissible).enumerate() {
+            if !(r && a) {
+                continue;
+            }
+            let c = self.rect.cell(k);
+            let (di, dj) = ((c.i - target.i) as i64, (c.j - target.j) as i64);
+            let d2 = di * di + dj * dj;
+            if best.is_none_or(|(b, _)| d2 < b) && accept(c) {
+                best = Some((d2, c));
+            }
+        }
+        best.map(|(_, c)| c)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::MapParams;
+    use strider_core::Rgb8;
+
+    #[test]
+    fn wall_splits_reachable_region() {
+        let p = MapParams {
+            cell_size: 0.1,
+            tile_size: 4,
+            r_robot: 0.0,
+            rho_obstacle: 0.1,
+            ..MapParams::default()
+        };
+        let mut m = ElevationMap::new(p);
+        for j in 0..10 {
+            for i in 0..10 {
+                let z = if i == 5 { 1.0 } else { 0.0 };
+                m.set_cell(Cell::new(i, j), z, 1e-4, Rgb8::default());
+            }
+        }
+        m.update_passability();
+        let r = Reachability::compute(&m, Cell::new(1, 1));
+        // Columns 4..=6 are impassable (the wall and the cells beside it).
+        assert_eq!(r.count(), 4 * 10);
+        assert!(r.contains(Cell::new(3, 9)));
+        assert!(!r.contains(Cell::new(7, 1)));
+        assert_eq!(
+            r.nearest_goal_cell(Cell::new(8, 2), |_| true),
+            Some(Cell::new(3, 2))
+        );
+        let r = Reachability::compute(&m, Cell::new(50, 50));
+        assert_eq!(r.count(), 0);
+    }
+}
