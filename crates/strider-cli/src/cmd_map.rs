@@ -179,6 +179,8 @@ pub fn build(
     let (mut n_vis, mut n_vis_obs, mut n_obs, mut se, mut max_err) =
         (0usize, 0usize, 0usize, 0.0f64, 0.0f64);
     let (mut n_pass, mut n_pass_agree) = (0usize, 0usize);
+    // Squared error and count split by ground truth: [passable ground, obstacle cells].
+    let mut se_split = [(0.0f64, 0usize); 2];
     let mut err_raster = vec![f32::NAN; n];
     for k in 0..n {
         let c = w.rect.cell(k);
@@ -195,6 +197,9 @@ pub fn build(
             let e = (z as f64 - w.elevation[k] as f64).abs();
             se += e * e;
             max_err = max_err.max(e);
+            let part = &mut se_split[(gt_pass[k] == Passability::Impassable) as usize];
+            part.0 += e * e;
+            part.1 += 1;
             err_raster[k] = e as f32;
         }
         let p = map.passability(c);
@@ -212,6 +217,13 @@ pub fn build(
         (se / n_obs as f64).sqrt()
     } else {
         f64::NAN
+    };
+    let split_rmse = |(s, n): (f64, usize)| {
+        if n > 0 {
+            (s / n as f64).sqrt()
+        } else {
+            f64::NAN
+        }
     };
     let agreement = if n_pass > 0 {
         n_pass_agree as f64 / n_pass as f64
@@ -267,6 +279,16 @@ pub fn build(
         Passability::Passable => Some([150, 150, 150]),
     });
     pc.save(&out.join("passability.png"))?;
+    let obs = map.observed_raster(rect);
+    let mut ac = Canvas::new(rect, res, scale);
+    ac.fill(|k| {
+        obs[k].then_some(if adm[k] {
+            [230, 230, 230]
+        } else {
+            [60, 20, 20]
+        })
+    });
+    ac.save(&out.join("admissible.png"))?;
     let mut pathc = rgb_canvas(rect, res, scale, &colors);
     pathc.polyline(&sink.trajectory, [255, 60, 0], (scale as i64 / 3).max(1));
     pathc.marker(sc.start.position(), [255, 255, 255], (scale as i64).max(3));
@@ -279,6 +301,9 @@ pub fn build(
         "observed_fraction": observed_fraction,
         "elevation_rmse_m": rmse,
         "elevation_max_abs_error_m": max_err,
+        "elevation_rmse_ground_m": split_rmse(se_split[0]),
+        "elevation_rmse_obstacle_m": split_rmse(se_split[1]),
+        "observed_obstacle_cells": se_split[1].1,
         "passability_agreement": agreement,
         "fused_points": sink.totals.fused_points,
         "points_per_second": pps,

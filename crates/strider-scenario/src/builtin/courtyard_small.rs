@@ -270,17 +270,26 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
         }
         // Tour 2: 20 admissible points from a fixed seed stream of this world.
         let mut tour_rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 2);
-        let all = flood_fill(
+        let r = map.r_robot;
+        let bounds = Bounds {
+            min: Point2::new(r, r),
+            max: Point2::new(W - r, H - r),
+        };
+        let mut all = flood_fill(
             &adm,
             world.width(),
             world.height(),
             world.index_at(corners[0]).unwrap_or(0),
         );
+        // Tour points lie inside the exploration bounds (the open courtyard's edge cells are
+        // admissible but outside them).
+        for (k, a) in all.iter_mut().enumerate() {
+            *a &= bounds.contains(world.rect.cell(k).center(RES));
+        }
         let tour2 = sample_cells(&world, &all, 20, 0.5, &mut tour_rng);
         if tour2.len() != 20 {
             continue;
         }
-        let r = map.r_robot;
         return Ok(Scenario {
             name: name.into(),
             description: DESCRIPTION.into(),
@@ -291,10 +300,7 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
             sim: SimParams::default(),
             strategy: table3(false),
             start: Pose2::new(corners[0].x, corners[0].y, 0.0),
-            bounds: Bounds {
-                min: Point2::new(r, r),
-                max: Point2::new(W - r, H - r),
-            },
+            bounds,
             tours: vec![
                 Tour {
                     name: "tour-1".into(),

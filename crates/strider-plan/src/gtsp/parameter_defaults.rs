@@ -1,0 +1,130 @@
+//! Solver parameters and the `Fast` / `Default` / `Slow` presets.
+
+use serde::{Deserialize, Serialize};
+
+/// Effort preset.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Mode {
+    /// One short trial: for frequent re-planning (warm-started).
+    Fast,
+    /// Benchmark-quality default.
+    #[default]
+    Default,
+    /// More and longer trials.
+    Slow,
+}
+
+/// Parameters of [`solve`](super::solve).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SolverParams {
+    /// Effort preset (number and length of trials).
+    pub mode: Mode,
+    /// Wall-clock limit in seconds (the only source of non-determinism: use
+    /// iteration limits for reproducible runs).
+    pub time_limit_s: f64,
+    /// Random seed.
+    pub seed: u64,
+    /// Open tour from this (original) vertex: the tour starts there, the
+    /// vertex's set is reduced to it, and the cost back to it is 0.
+    pub open: Option<usize>,
+    /// Closed tour through this vertex (its set is reduced to it); the
+    /// reported tour starts there. Ignored when `open` is set.
+    pub fixed_start: Option<usize>,
+    /// A previous tour (original vertices, visiting order). Vertices that are
+    /// no longer in any set, or whose set is already visited, are dropped;
+    /// missing sets are inserted at their cheapest positions.
+    pub warm_start: Option<Vec<usize>>,
+    /// Override of the preset's number of trials (restarts).
+    pub max_trials: Option<usize>,
+    /// Override of the preset's iterations per trial.
+    pub max_iterations: Option<u64>,
+    /// Override of the preset's "iterations without improvement" that end a
+    /// trial.
+    pub stall_iterations: Option<u64>,
+    /// Use the exact Held–Karp solver when the instance is small enough.
+    pub use_exact: bool,
+}
+
+impl Default for SolverParams {
+    fn default() -> Self {
+        Self {
+            mode: Mode::Default,
+            time_limit_s: 60.0,
+            seed: 1,
+            open: None,
+            fixed_start: None,
+            warm_start: None,
+            max_trials: None,
+            max_iterations: None,
+            stall_iterations: None,
+            use_exact: true,
+        }
+    }
+}
+
+impl SolverParams {
+    /// Default parameters with the given mode.
+    pub fn with_mode(mode: Mode) -> Self {
+        Self {
+            mode,
+            ..Self::default()
+        }
+    }
+}
+
+/// Resolved numeric settings of one run.
+#[derive(Clone, Debug)]
+pub(crate) struct Settings {
+    /// Number of trials (the first from the construction or warm start, the
+    /// others alternate between cold restarts and restarts from the best).
+    pub trials: usize,
+    /// Iterations per trial.
+    pub iterations: u64,
+    /// Iterations without improving the trial's best that end the trial.
+    pub stall: u64,
+    /// Maximum number of sets removed per iteration.
+    pub max_remove: usize,
+    /// Initial temperature as a fraction of the average edge cost.
+    pub temp_start: f64,
+    /// Final temperature as a fraction of the initial one.
+    pub temp_end: f64,
+    /// Cluster optimisation runs only on candidates within
+    /// `co_window·T + co_slack·mean_edge` of the current cost.
+    pub co_window: f64,
+    /// See `co_window`.
+    pub co_slack: f64,
+    /// Neighbour-list length of the local search.
+    pub ls_nn: usize,
+    /// Neighbour-list length of insertion (0 = all positions).
+    pub insert_nn: usize,
+}
+
+impl Settings {
+    pub fn new(params: &SolverParams, m: usize) -> Self {
+        let mf = m as u64;
+        // (trials, iterations per set and trial, stall iterations per set, T0)
+        let (trials, it_f, stall_f, temp_start) = match params.mode {
+            Mode::Fast => (1, 30, 30, 1.0),
+            Mode::Default => (4, 140, 140, 1.0),
+            Mode::Slow => (8, 200, 200, 1.0),
+        };
+        let iterations = params.max_iterations.unwrap_or((it_f * mf).max(1000));
+        let stall = params.stall_iterations.unwrap_or((stall_f * mf).max(1000));
+        let max_remove = ((m as f64 * 0.3).ceil() as usize)
+            .clamp(5, 60)
+            .min(m.saturating_sub(1))
+            .max(1);
+        Self {
+            trials: params.max_trials.unwrap_or(trials).max(1),
+            temp_start,
+            temp_end: 0.01,
+            co_window: 10.0,
+            co_slack: 1.0,
+            ls_nn: 10,
+            insert_nn: 10,
+            iterations,
+            stall,
+            max_remove,
+        }
+    }
+}

@@ -1,0 +1,198 @@
+//! Internal, solver-friendly form of an instance.
+//!
+//! Vertices are renumbered so that every set is a contiguous range
+//! `set_start[s]..set_start[s + 1]` of "internal" vertices; vertices in no
+//! set are dropped. The cost matrix is copied into that numbering (row-major,
+//! plus its transpose when asymmetric, so that both "costs out of `u`" and
+//! "costs into `v`" over a set are contiguous slices). Restrictions of the
+//! parameters are applied here:
+//!
+//! * `open = Some(s)`: the set of `s` is reduced to `{s}` and every arc into
+//!   `s` costs 0, so a closed tour of the internal problem is an open path
+//!   from `s` in the original one;
+//! * `fixed_start = Some(s)`: the set of `s` is reduced to `{s}`.
+
+use crate::tsplib::Instance;
+
+pub(crate) struct Problem {
+    /// Number of sets.
+    pub m: usize,
+    /// Number of internal vertices.
+    pub nv: usize,
+    /// Set `s` is `set_start[s]..set_start[s + 1]`.
+    pub set_start: Vec<u32>,
+    /// Set of each internal vertex.
+    pub set_of: Vec<u32>,
+    /// Original vertex of each internal vertex.
+    pub orig: Vec<usize>,
+    /// Row-major costs, `d[u * nv + v]`.
+    d: Vec<i64>,
+    /// Transposed costs `dt[v * nv + u] = d(u, v)` (empty when symmetric).
+    dt: Vec<i64>,
+    /// True if the internal matrix is symmetric.
+    pub symmetric: bool,
+    /// Internal vertex that every tour must contain and is reported first
+    /// (open start or fixed start).
+    pub anchor: Option<u32>,
+    /// Symmetrised set-to-set distance `min over u in A, v in B of
+    /// min(d(u,v), d(v,u))`, row-major `m x m`.
+    pub set_dist: Vec<i64>,
+    /// For each set, the other sets sorted by `set_dist`.
+    pub set_nbrs: Vec<Vec<u32>>,
+}
+
+impl Problem {
+    /// Builds the internal problem. `anchor` is the original vertex that is
+    /// fixed (its set reduced to it), and `open` zeroes the arcs into it.
+    pub fn new(inst: &Instance, anchor: Option<usize>, open: bool) -> Self {
+        let m = inst.sets.len();
+        let mut set_start = Vec::with_capacity(m + 1);
+        let mut set_of = Vec::new();
+        let mut orig = Vec::new();
+        let owner = anchor.map(|a| inst.sets.iter().position(|s| s.contains(&a)));
+        let anchor_set = owner.flatten();
+        let mut anchor_int = None;
+        for (s, set) in inst.sets.iter().enumerate() {
+            set_start.push(orig.len() as u32);
+            if Some(s) == anchor_set {
+                let a = anchor.unwrap();
+                anchor_int = Some(orig.len() as u32);
+                orig.push(a);
+                set_of.push(s as u32);
+            } else {
+                for &v in set {
+                    orig.push(v);
+                    set_of.push(s as u32);
+                }
+            }
+        }
+        set_start.push(orig.len() as u32);
+        let nv = orig.len();
+        let mut d = vec![0i64; nv * nv];
+        for (i, &u) in orig.iter().enumerate() {
+            let row = inst.dist.row(u);
+            for (j, &v) in orig.iter().enumerate() {
+                d[i * nv + j] = if i == j { 0 } else { row[v] };
+            }
+        }
+        if open && let Some(a) = anchor_int {
+            for i in 0..nv {
+                d[i * nv + a as usize] = 0;
+            }
+        }
+        let symmetric = (0..nv).all(|i| (0..i).all(|j| d[i * nv + j] == d[j * nv + i]));
+        let dt = if symmetric {
+            Vec::new()
+        } else {
+            let mut t = vec![0i64; nv * nv];
+            for i in 0..nv {
+                for j in 0..nv {
+                    t[j * nv + i] = d[i * nv + j];
+                }
+            }
+            t
+        };
+        let mut p = Self {
+            m,
+            nv,
+            set_start,
+            set_of,
+            orig,
+            d,
+            dt,
+            symmetric,
+            anchor: anchor_int,
+            set_dist: Vec::new(),
+            set_nbrs: Vec::new(),
+        };
+        p.build_set_distances();
+        p
+    }
+
+    fn build_set_distances(&mut self) {
+        let m = self.m;
+        let mut sd = vec![0i64; m * m];
+        for a in 0..m {
+            for b in a + 1..m {
+                let mut best = i64::MAX;
+                for u in self.set(a) {
+                    let ru = self.row(u);
+                    let cu = self.col(u);
+                    for v in self.set_range(b) {
+                        best = best.min(ru[v].min(cu[v]));
+                    }
+                }
+                sd[a * m + b] = best;
+                sd[b * m + a] = best;
+            }
+        }
+        let mut nbrs = Vec::with_capacity(m);
+        for a in 0..m {
+            let mut l: Vec<u32> = (0..m as u32).filter(|&b| b as usize != a).collect();
+            l.sort_by_key(|&b| (sd[a * m + b as usize], b));
+            nbrs.push(l);
+        }
+        self.set_dist = sd;
+        self.set_nbrs = nbrs;
+    }
+
+    /// Cost of the arc `u -> v` (internal vertices).
+    #[inline(always)]
+    pub fn d(&self, u: u32, v: u32) -> i64 {
+        self.d[u as usize * self.nv + v as usize]
+    }
+
+    /// Costs of the arcs out of `u`, indexed by internal vertex.
+    #[inline(always)]
+    pub fn row(&self, u: u32) -> &[i64] {
+        let s = u as usize * self.nv;
+        &self.d[s..s + self.nv]
+    }
+
+    /// Costs of the arcs into `v`, indexed by internal vertex.
+    #[inline(always)]
+    pub fn col(&self, v: u32) -> &[i64] {
+        let s = v as usize * self.nv;
+        if self.symmetric {
+            &self.d[s..s + self.nv]
+        } else {
+            &self.dt[s..s + self.nv]
+        }
+    }
+
+    /// Internal vertices of set `s`.
+    #[inline(always)]
+    pub fn set(&self, s: usize) -> std::ops::Range<u32> {
+        self.set_start[s]..self.set_start[s + 1]
+    }
+
+    /// Internal vertices of set `s` as a `usize` range.
+    #[inline(always)]
+    pub fn set_range(&self, s: usize) -> std::ops::Range<usize> {
+        self.set_start[s] as usize..self.set_start[s + 1] as usize
+    }
+
+    /// Size of set `s`.
+    #[inline(always)]
+    pub fn set_size(&self, s: usize) -> usize {
+        (self.set_start[s + 1] - self.set_start[s]) as usize
+    }
+
+    /// Set of internal vertex `v`.
+    #[inline(always)]
+    pub fn set_of(&self, v: u32) -> usize {
+        self.set_of[v as usize] as usize
+    }
+
+    /// Cost of the closed tour.
+    pub fn tour_cost(&self, t: &[u32]) -> i64 {
+        if t.len() < 2 {
+            return 0;
+        }
+        let mut c = self.d(t[t.len() - 1], t[0]);
+        for w in t.windows(2) {
+            c += self.d(w[0], w[1]);
+        }
+        c
+    }
+}

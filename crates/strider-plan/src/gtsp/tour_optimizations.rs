@@ -1,0 +1,496 @@
+//! Local improvement of a g-tour.
+//!
+//! A tour is a cyclic sequence of internal vertices, one per set. Two kinds
+//! of improvement are combined:
+//!
+//! * **Cluster optimisation** ([`ClusterOpt`]): for the fixed cyclic order
+//!   of the sets, choose the optimal vertex of every set. This is a shortest
+//!   path through the set-layered graph (Fischetti, Salazar González & Toth
+//!   1997; "re-opt" in GLNS, Smith & Imeson 2017; "CO" in Karapetyan & Gutin
+//!   2011). The smallest set is used as the first layer and one shortest
+//!   path is run per vertex of it: `O(|S_min| · Σ |S_i|·|S_{i+1}|)`.
+//! * **Set-order local search** ([`LocalSearch`]), driven by a queue of
+//!   "dirty" sets (don't-look bits, Bentley 1992): for a dirty set `X`
+//!   1. *move-opt*: remove `X` and re-insert it at its best position with its
+//!      best vertex (the vertex choice is re-optimised, GLNS's "moveopt");
+//!   2. *2-opt* on the two tour edges at `X` against every other edge;
+//!   3. *or-opt*: move the segments of 2 and 3 sets that start or end at
+//!      `X` elsewhere, forward or reversed.
+//!
+//!   All gains are exact for asymmetric costs: segment reversal costs are
+//!   read from prefix sums of the forward and backward arc costs along the
+//!   tour. Endpoints of changed edges become dirty again.
+//!
+//! The two are alternated until cluster optimisation finds nothing.
+
+use super::problem::Problem;
+
+/// Shortest-path cluster optimisation with reusable buffers.
+#[derive(Default)]
+pub(crate) struct ClusterOpt {
+    dp: Vec<i64>,
+    parent: Vec<u32>,
+    best_parent: Vec<u32>,
+    sets: Vec<usize>,
+}
+
+impl ClusterOpt {
+    /// Re-chooses the vertices of `tour` optimally for its set order.
+    /// Returns the new cost (never worse than the old one).
+    pub fn run(&mut self, p: &Problem, tour: &mut [u32]) -> i64 {
+        let m = tour.len();
+        if m < 2 {
+            return p.tour_cost(tour);
+        }
+        self.dp.resize(p.nv, 0);
+        self.parent.resize(p.nv, 0);
+        self.best_parent.resize(p.nv, 0);
+        self.sets.clear();
+        self.sets.extend(tour.iter().map(|&v| p.set_of(v)));
+        // First layer: the smallest set.
+        let r = (0..m).min_by_key(|&i| p.set_size(self.sets[i])).unwrap();
+        let layer = |i: usize| self.sets[(r + i) % m];
+        let mut best = (i64::MAX, 0u32, 0usize);
+        for a in p.set(layer(0)) {
+            // Layer 1.
+            let s1 = layer(1);
+            let ra = p.row(a);
+            for w in p.set_range(s1) {
+                self.dp[w] = ra[w];
+                self.parent[w] = a;
+            }
+            for i in 2..m {
+                let prev = p.set_range(layer(i - 1));
+                for w in p.set(layer(i)) {
+                    let cw = &p.col(w)[prev.clone()];
+                    let dp = &self.dp[prev.clone()];
+                    let mut bv = i64::MAX;
+                    let mut bp = 0usize;
+                    for (k, (x, y)) in dp.iter().zip(cw).enumerate() {
+                        let c = x + y;
+                        if c < bv {
+                            bv = c;
+                            bp = k;
+                        }
+                    }
+                    self.dp[w as usize] = bv;
+                    self.parent[w as usize] = (prev.start + bp) as u32;
+                }
+            }
+            let last = p.set_range(layer(m - 1));
+            let ca = p.col(a);
+            let mut total = i64::MAX;
+            let mut end = 0usize;
+            for v in last {
+                let c = self.dp[v] + ca[v];
+                if c < total {
+                    total = c;
+                    end = v;
+                }
+            }
+            if total < best.0 {
+                best = (total, a, end);
+                std::mem::swap(&mut self.parent, &mut self.best_parent);
+            }
+        }
+        let (total, a, end) = best;
+        let mut v = end as u32;
+        for i in (1..m).rev() {
+            tour[(r + i) % m] = v;
+            v = self.best_parent[v as usize];
+        }
+        tour[r] = a;
+        total
+    }
+}
+
+/// Dirty-set driven local search over the set order (see module docs).
+#[derive(Default)]
+pub(crate) struct LocalSearch {
+    /// Position of each set in the tour.
+    pos: Vec<u32>,
+    /// Forward prefix sums: `fwd[k] = Σ_{x<k} d(t[x], t[x+1])`.
+    fwd: Vec<i64>,
+    /// Backward prefix sums: `bwd[k] = Σ_{x<k} d(t[x+1], t[x])`.
+    bwd: Vec<i64>,
+    queue: Vec<u32>,
+    queued: Vec<bool>,
+    scratch: Vec<u32>,
+    pub co: ClusterOpt,
+    /// Enable or-opt moves.
+    pub or_opt: bool,
+    /// Enable 2-opt moves.
+    pub two_opt: bool,
+    /// Neighbour-list length (number of nearest sets tried per move).
+    pub nn: usize,
+}
+
+impl LocalSearch {
+    pub fn new(m: usize) -> Self {
+        Self {
+            pos: vec![0; m],
+            queued: vec![false; m],
+            or_opt: true,
+            two_opt: true,
+            nn: 10,
+            ..Default::default()
+        }
+    }
+
+    fn refresh(&mut self, p: &Problem, t: &[u32]) {
+        let m = t.len();
+        self.fwd.clear();
+        self.bwd.clear();
+        let (mut f, mut b) = (0i64, 0i64);
+        for (i, &v) in t.iter().enumerate() {
+            self.pos[p.set_of(v)] = i as u32;
+            self.fwd.push(f);
+            self.bwd.push(b);
+            if i + 1 < m {
+                f += p.d(v, t[i + 1]);
+                b += p.d(t[i + 1], v);
+            }
+        }
+    }
+
+    fn push(&mut self, s: usize) {
+        if !self.queued[s] {
+            self.queued[s] = true;
+            self.queue.push(s as u32);
+        }
+    }
+
+    /// Improves `tour` (cost `cost`) starting from the given dirty sets;
+    /// with `dirty = None` every set is dirty. Cluster optimisation is
+    /// skipped when the cost after the set-order moves exceeds `co_above`.
+    /// Returns the new cost.
+    pub fn run(
+        &mut self,
+        p: &Problem,
+        tour: &mut Vec<u32>,
+        mut cost: i64,
+        dirty: Option<&[u32]>,
+        co_above: i64,
+    ) -> i64 {
+        let m = tour.len();
+        if m < 3 {
+            return self.co.run(p, tour);
+        }
+        self.pos.resize(p.m, 0);
+        self.queued.resize(p.m, false);
+        match dirty {
+            Some(ds) => {
+                for &s in ds {
+                    self.push(s as usize);
+                }
+            }
+            None => {
+                for i in (0..m).rev() {
+                    self.push(p.set_of(tour[i]));
+                }
+            }
+        }
+        let mut rounds = 0;
+        loop {
+            self.refresh(p, tour);
+            while let Some(s) = self.queue.pop() {
+                self.queued[s as usize] = false;
+                let i = self.pos[s as usize] as usize;
+                if let Some(delta) = self.improve_at(p, tour, i) {
+                    debug_assert!(delta < 0);
+                    cost += delta;
+                    self.refresh(p, tour);
+                    debug_assert_eq!(cost, p.tour_cost(tour));
+                }
+            }
+            if cost > co_above {
+                return cost;
+            }
+            self.scratch.clear();
+            self.scratch.extend_from_slice(tour);
+            let c = self.co.run(p, tour);
+            rounds += 1;
+            if c >= cost || rounds >= 8 {
+                if c > cost {
+                    tour.copy_from_slice(&self.scratch);
+                }
+                return c.min(cost);
+            }
+            cost = c;
+            // Re-examine the sets whose vertex changed, and their neighbours.
+            for i in 0..m {
+                if tour[i] != self.scratch[i] {
+                    self.push(p.set_of(tour[(i + m - 1) % m]));
+                    self.push(p.set_of(tour[i]));
+                    self.push(p.set_of(tour[(i + 1) % m]));
+                }
+            }
+        }
+    }
+
+    /// Tries the moves at position `i`; applies the first improving one.
+    fn improve_at(&mut self, p: &Problem, t: &mut Vec<u32>, i: usize) -> Option<i64> {
+        if let Some(d) = self.move_opt(p, t, i) {
+            return Some(d);
+        }
+        if self.two_opt {
+            let m = t.len();
+            if let Some(d) = self.two_opt_edge(p, t, (i + m - 1) % m, false) {
+                return Some(d);
+            }
+            if let Some(d) = self.two_opt_edge(p, t, i, true) {
+                return Some(d);
+            }
+        }
+        if self.or_opt {
+            let m = t.len();
+            for len in [2usize, 3] {
+                if len + 2 > m {
+                    break;
+                }
+                for start in [i, (i + m + 1 - len) % m] {
+                    if let Some(d) = self.or_move(p, t, start, len) {
+                        return Some(d);
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// Marks the sets at positions `idx` (mod m) dirty.
+    fn dirty_positions(&mut self, p: &Problem, t: &[u32], idx: &[usize]) {
+        let m = t.len();
+        for &k in idx {
+            let s = p.set_of(t[k % m]);
+            self.push(s);
+        }
+    }
+
+    /// Remove the set at position `i` and re-insert it with its best vertex
+    /// at its best position. Candidate positions are the edges next to the
+    /// `nn` nearest sets (all edges when `nn >= m - 1`), plus the gap left
+    /// by the removal.
+    fn move_opt(&mut self, p: &Problem, t: &mut Vec<u32>, i: usize) -> Option<i64> {
+        let m = t.len();
+        let v = t[i];
+        let im1 = (i + m - 1) % m;
+        let prev = t[im1];
+        let next = t[(i + 1) % m];
+        let s = p.set_of(v);
+        let gain = p.d(prev, v) + p.d(v, next) - p.d(prev, next);
+        let range = p.set_range(s);
+        let mut best = (gain, usize::MAX, 0u32); // (insert cost, after-position, vertex)
+        let eval = |j: usize, best: &mut (i64, usize, u32)| {
+            // Edge j of the tour without position i; j == i is (prev, next).
+            let (a, b) = if j == i {
+                (prev, next)
+            } else {
+                (t[j], t[(j + 1) % m])
+            };
+            let base = p.d(a, b);
+            let ra = &p.row(a)[range.clone()];
+            let cb = &p.col(b)[range.clone()];
+            for (k, (x, y)) in ra.iter().zip(cb).enumerate() {
+                let c = x + y - base;
+                if c < best.0 {
+                    *best = (c, j, range.start as u32 + k as u32);
+                }
+            }
+        };
+        if self.nn + 1 >= m {
+            for j in 0..m {
+                if j != im1 {
+                    eval(j, &mut best);
+                }
+            }
+        } else {
+            eval(i, &mut best);
+            for &y in &p.set_nbrs[s][..self.nn] {
+                let q = self.pos[y as usize] as usize;
+                for j in [(q + m - 1) % m, q] {
+                    if j != im1 && j != i {
+                        eval(j, &mut best);
+                    }
+                }
+            }
+        }
+        if best.1 == usize::MAX {
+            return None;
+        }
+        let (c, j, w) = best;
+        let delta = c - gain;
+        if j == i {
+            t[i] = w;
+            self.dirty_positions(p, t, &[i + m - 1, i, i + 1]);
+        } else {
+            t.remove(i);
+            // After removal, the edge (t[j], t[j+1]) of the old tour starts
+            // at index j if j < i, else at j - 1.
+            let jj = if j < i { j } else { j - 1 };
+            t.insert(jj + 1, w);
+            self.dirty_positions(p, t, &[jj, jj + 1, jj + 2]);
+            self.push(p.set_of(prev));
+            self.push(p.set_of(next));
+        }
+        Some(delta)
+    }
+
+    /// Internal cost of `t[lo..=hi]` forward and backward (`lo <= hi`).
+    #[inline]
+    fn seg_costs(&self, lo: usize, hi: usize) -> (i64, i64) {
+        (self.fwd[hi] - self.fwd[lo], self.bwd[hi] - self.bwd[lo])
+    }
+
+    /// Gain of the 2-opt move on edges `lo < hi` (reverse `t[lo+1..=hi]`).
+    #[inline]
+    fn two_opt_delta(&self, p: &Problem, t: &[u32], lo: usize, hi: usize) -> i64 {
+        let m = t.len();
+        let a = t[lo];
+        let b = t[lo + 1];
+        let c = t[hi];
+        let e = t[(hi + 1) % m];
+        let mut delta = p.d(a, c) + p.d(b, e) - p.d(a, b) - p.d(c, e);
+        if !p.symmetric {
+            let (f, r) = self.seg_costs(lo + 1, hi);
+            delta += r - f;
+        }
+        delta
+    }
+
+    /// Best 2-opt move between edge `k` = (t[k], t[k+1]) and another edge.
+    /// With neighbour lists, `x` is the vertex of the dirty set (`t[k]` if
+    /// `x_first`, else `t[k+1]`) and only moves creating an edge between `x`
+    /// and one of its neighbour sets are tried.
+    fn two_opt_edge(&mut self, p: &Problem, t: &mut [u32], k: usize, x_first: bool) -> Option<i64> {
+        let m = t.len();
+        let mut best = (0i64, usize::MAX, usize::MAX);
+        let consider = |j: usize, best: &mut (i64, usize, usize)| {
+            let (lo, hi) = if j < k { (j, k) } else { (k, j) };
+            if hi < lo + 2 {
+                return;
+            }
+            let delta = self.two_opt_delta(p, t, lo, hi);
+            if delta < best.0 {
+                *best = (delta, lo, hi);
+            }
+        };
+        if self.nn + 1 >= m {
+            for j in 0..m {
+                consider(j, &mut best);
+            }
+        } else {
+            let x = if x_first { t[k] } else { t[(k + 1) % m] };
+            for &y in &p.set_nbrs[p.set_of(x)][..self.nn] {
+                let q = self.pos[y as usize] as usize;
+                // x = t[k]: edge pair (k, q) creates (x, t[q]);
+                // x = t[k+1]: edge pair (k, q-1) creates (x, t[q]).
+                let j = if x_first { q } else { (q + m - 1) % m };
+                consider(j, &mut best);
+            }
+        }
+        if best.1 == usize::MAX {
+            return None;
+        }
+        let (delta, lo, hi) = best;
+        t[lo + 1..=hi].reverse();
+        self.dirty_positions(p, t, &[lo, lo + 1, hi, hi + 1]);
+        Some(delta)
+    }
+
+    /// Best or-opt move of the segment of `len` sets starting at `start`.
+    fn or_move(&mut self, p: &Problem, t: &mut [u32], start: usize, len: usize) -> Option<i64> {
+        let m = t.len();
+        let at = |x: usize| t[x % m];
+        let s1 = at(start);
+        let sl = at(start + len - 1);
+        let prev = at(start + m - 1);
+        let next = at(start + len);
+        let remove_gain = p.d(prev, s1) + p.d(sl, next) - p.d(prev, next);
+        let (mut fwd, mut bwd) = (0i64, 0i64);
+        for x in 0..len - 1 {
+            fwd += p.d(at(start + x), at(start + x + 1));
+            bwd += p.d(at(start + x + 1), at(start + x));
+        }
+        let rev_extra = bwd - fwd;
+        let mut best = (remove_gain, usize::MAX, false);
+        let eval = |j: usize, best: &mut (i64, usize, bool)| {
+            let c = t[j];
+            let e = t[(j + 1) % m];
+            let base = p.d(c, e);
+            let f = p.d(c, s1) + p.d(sl, e) - base;
+            if f < best.0 {
+                *best = (f, j, false);
+            }
+            let r = p.d(c, sl) + p.d(s1, e) - base + rev_extra;
+            if r < best.0 {
+                *best = (r, j, true);
+            }
+        };
+        if self.nn + 1 >= m {
+            // Candidate edges (t[j], t[j+1]) of the rest: j from start+len to start+m-2.
+            for off in len..m - 1 {
+                eval((start + off) % m, &mut best);
+            }
+        } else {
+            for end in [s1, sl] {
+                for &y in &p.set_nbrs[p.set_of(end)][..self.nn] {
+                    let q = self.pos[y as usize] as usize;
+                    for j in [(q + m - 1) % m, q] {
+                        // Skip edges touching the segment: offsets m-1 and 0..len.
+                        let off = (j + m - start) % m;
+                        if off >= len && off < m - 1 {
+                            eval(j, &mut best);
+                        }
+                    }
+                }
+            }
+        }
+        if best.1 == usize::MAX {
+            return None;
+        }
+        let (ins, j, rev) = best;
+        let delta = ins - remove_gain;
+        // Build the new tour: rest from next ... up to t[j], segment, rest after.
+        self.scratch.clear();
+        let mut seg: Vec<u32> = (0..len).map(|x| at(start + x)).collect();
+        if rev {
+            seg.reverse();
+        }
+        let mut x = (start + len) % m;
+        loop {
+            self.scratch.push(t[x]);
+            if x == j {
+                self.scratch.extend_from_slice(&seg);
+            }
+            x = (x + 1) % m;
+            if x == start {
+                break;
+            }
+        }
+        t.copy_from_slice(&self.scratch);
+        // Dirty: old neighbours and new neighbours of the segment.
+        let sp = p.set_of(prev);
+        let sn = p.set_of(next);
+        self.push(sp);
+        self.push(sn);
+        for &v in &seg {
+            self.push(p.set_of(v));
+        }
+        self.push(
+            p.set_of(t[(self.scratch.iter().position(|&v| v == seg[0]).unwrap() + m - 1) % m]),
+        );
+        self.push(
+            p.set_of(
+                t[(self
+                    .scratch
+                    .iter()
+                    .position(|&v| v == seg[len - 1])
+                    .unwrap()
+                    + 1)
+                    % m],
+            ),
+        );
+        Some(delta)
+    }
+}
