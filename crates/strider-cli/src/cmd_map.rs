@@ -56,6 +56,8 @@ impl SensorSink for MapSink {
         tot.face_points += s.face_points;
         tot.cells_updated += s.cells_updated;
         tot.cells_gated += s.cells_gated;
+        tot.carved_points += s.carved_points;
+        tot.cells_carved += s.cells_carved;
         let yaw = self.last_pose.map_or(0.0, |p| p.yaw);
         let k = cloud.sensor as usize;
         if self.scan_poses.len() <= k {
@@ -313,6 +315,8 @@ pub fn build(
         "skipped_out_of_range_points": sink.totals.skipped_out_of_range,
         "face_points": sink.totals.face_points,
         "cells_gated": sink.totals.cells_gated,
+        "carved_points": sink.totals.carved_points,
+        "cells_carved": sink.totals.cells_carved,
         "visible_cells": n_vis,
         "observed_cells": n_obs,
         "passability_judged_cells": n_pass,

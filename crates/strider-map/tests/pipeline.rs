@@ -18,8 +18,22 @@ fn height(x: f32, y: f32) -> f32 {
     }
 }
 
-/// A scan of the top surfaces within `range` of the sensor (no occlusion: the map's job is
-/// fusion, not the simulator's ray casting), 4 × 4 returns per cell.
+/// True when the straight beam from `o` to the surface point `p` is not blocked by the ground
+/// truth before reaching it (sampled finely; the last 2 % are the target itself).
+fn unoccluded(o: Point3, p: (f32, f32, f32)) -> bool {
+    (1..=490).all(|k| {
+        let t = k as f32 / 500.0;
+        let (x, y) = (
+            o.x as f32 + t * (p.0 - o.x as f32),
+            o.y as f32 + t * (p.1 - o.y as f32),
+        );
+        height(x, y) <= o.z as f32 + t * (p.2 - o.z as f32) + 1e-4
+    })
+}
+
+/// A scan of the visible top surfaces within `range` of the sensor, 4 × 4 returns per cell.
+/// Returns the beam could not reach are left out: the map's ray carving relies on every beam
+/// having travelled its path.
 fn scan(origin: Point3, range: f32, d: f32) -> PointCloud {
     let mut points = Vec::new();
     let n = (range / d).ceil() as i32;
@@ -32,7 +46,9 @@ fn scan(origin: Point3, range: f32, d: f32) -> PointCloud {
             for s in 0..16 {
                 let x = (i as f32 + 0.125 + 0.25 * (s % 4) as f32) * d;
                 let y = (j as f32 + 0.125 + 0.25 * (s / 4) as f32) * d;
-                if (x - origin.x as f32).hypot(y - origin.y as f32) > range {
+                if (x - origin.x as f32).hypot(y - origin.y as f32) > range
+                    || !unoccluded(origin, (x, y, height(x, y)))
+                {
                     continue;
                 }
                 let rgb = if x < 0.8 {
@@ -71,7 +87,7 @@ fn exploration_step_on_a_small_world() {
     };
     let d = params.cell_size;
     let mut map = ElevationMap::new(params.clone());
-    let origin = Point3::new(0.45, 0.85, 0.3);
+    let origin = Point3::new(0.45, 0.85, 1.0);
     let stats = map.integrate(&scan(origin, 1.2, d as f32));
     assert!(stats.cells_updated > 300);
     assert_eq!(stats.skipped_non_finite, 0);
