@@ -181,6 +181,8 @@ pub fn build(
     let (mut n_vis, mut n_vis_obs, mut n_obs, mut se, mut max_err) =
         (0usize, 0usize, 0usize, 0.0f64, 0.0f64);
     let (mut n_pass, mut n_pass_agree) = (0usize, 0usize);
+    // Squared error and count over observed cells whose top surface was visible.
+    let mut se_visible = (0.0f64, 0usize);
     // Squared error and count split by ground truth: [passable ground, obstacle cells].
     let mut se_split = [(0.0f64, 0usize); 2];
     let mut err_raster = vec![f32::NAN; n];
@@ -199,6 +201,10 @@ pub fn build(
             let e = (z as f64 - w.elevation[k] as f64).abs();
             se += e * e;
             max_err = max_err.max(e);
+            if visible[k] {
+                se_visible.0 += e * e;
+                se_visible.1 += 1;
+            }
             let part = &mut se_split[(gt_pass[k] == Passability::Impassable) as usize];
             part.0 += e * e;
             part.1 += 1;
@@ -303,6 +309,7 @@ pub fn build(
         "observed_fraction": observed_fraction,
         "elevation_rmse_m": rmse,
         "elevation_max_abs_error_m": max_err,
+        "elevation_rmse_visible_top_m": split_rmse(se_visible),
         "elevation_rmse_ground_m": split_rmse(se_split[0]),
         "elevation_rmse_obstacle_m": split_rmse(se_split[1]),
         "observed_obstacle_cells": se_split[1].1,

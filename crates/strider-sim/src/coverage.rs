@@ -311,9 +311,16 @@ fn nearest_admissible(world: &World, adm: &[bool], p: Point2) -> Option<usize> {
     })
 }
 
+/// Smallest angle (degrees) between a line of sight and a top surface for that surface to count
+/// as seen (incidence at most 89° from its normal).
+pub const MIN_GRAZING_DEG: f64 = 1.0;
+const MIN_GRAZING_SIN: f64 = 0.017_452_406_437_283_51; // sin(1°)
+
 /// Per world cell (row-major): true when some pose in `poses` sees the centre of the cell's top
-/// surface with `sensor`: within its range (3-D distance from the sensor), inside its field of
-/// view, and with a clear line of sight through the heightfield
+/// surface with `sensor`: from above, at least [`MIN_GRAZING_DEG`] above the surface's plane (a
+/// top at sensor height shows only its edge),
+/// within its range (3-D distance from the sensor), inside its field of view, and with a clear
+/// line of sight through the heightfield
 /// ([`Heightfield::visible`]). The sensor stands `sensor.height` above the terrain under each
 /// pose; poses outside the world are ignored. An invalid world or sensor sees nothing.
 ///
@@ -346,7 +353,12 @@ pub fn visible_cells(world: &World, sensor: &SensorSpec, poses: &[Pose2]) -> Vec
             let target = Point3::new(c.x, c.y, z);
             origins.iter().any(|&(o, yaw)| {
                 let v = [target.x - o.x, target.y - o.y, target.z - o.z];
-                v[0] * v[0] + v[1] * v[1] + v[2] * v[2] <= range * range
+                // A horizontal top surface is seen only from above, and only when the line of
+                // sight meets it at least MIN_GRAZING_DEG above its plane: a top at sensor height
+                // shows just its edge (and the face beneath it).
+                let l2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+                -v[2] >= MIN_GRAZING_SIN * l2.sqrt()
+                    && l2 <= range * range
                     && model.in_fov(yaw, v)
                     && hf.visible(o, target)
             })

@@ -122,6 +122,12 @@ fn visibility_respects_walls_range_and_fov() {
         !at(2.05, 2.05),
         "below the sensor, outside the elevation limits"
     );
+    // A wall top exactly at sensor height (omni at 0.5 m) is seen edge-on only: not visible,
+    // though the ground in front of it is.
+    fill(&mut world, 40, 41, 0, 40, 0.5, WALL);
+    let vis = visible_cells(&world, &omni(360, 16, 5.0), &[pose]);
+    assert!(!vis[world.index_at(Point2::new(4.05, 2.05)).unwrap()]);
+    assert!(vis[world.index_at(Point2::new(3.95, 2.05)).unwrap()]);
     // A taller wall hides its own top from a lower sensor.
     fill(&mut world, 40, 41, 0, 40, 1.0, WALL);
     let vis = visible_cells(&world, &omni(360, 16, 5.0), &[pose]);
