@@ -4,6 +4,7 @@
 //! loads a scenario, wires the simulator to the algorithms through the robot interface, and
 //! writes figures and JSON. Errors end in one line on stderr and exit code 1.
 
+mod cmd_gtsp;
 mod cmd_map;
 mod cmd_scenario;
 mod render;
@@ -33,6 +34,58 @@ enum Command {
     /// The colored 2.5D elevation map.
     #[command(subcommand)]
     Map(MapCommand),
+    /// The Generalized TSP solver that orders exploration goals, on GTSPLIB/TSPLIB files.
+    #[command(subcommand)]
+    Gtsp(GtspCommand),
+}
+
+#[derive(Subcommand, Debug)]
+enum GtspCommand {
+    /// Solve one GTSPLIB (.gtsp) or TSPLIB (.tsp/.atsp) instance: prints the cost and the tour
+    /// (1-based vertex ids as in the file, one per set, in visiting order).
+    Solve {
+        /// The instance file.
+        file: PathBuf,
+        /// Wall-clock limit, seconds.
+        #[arg(long, default_value_t = 60.0)]
+        time_limit: f64,
+        /// Random seed (same seed and limits: same tour, unless the time limit cuts the search).
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Effort preset: fast, default or slow.
+        #[arg(long, default_value = "default")]
+        mode: String,
+        /// Print exactly one JSON object {"cost", "tour", "time_s"}.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Solve every instance listed in DIR/best_known.csv (or a TSPLIB DIR/optima.csv) and print
+    /// per-instance cost, gap to the best-known value and time, then a summary line.
+    Bench {
+        /// Folder with the instances and best_known.csv / optima.csv.
+        dir: PathBuf,
+        /// Wall-clock limit per run, seconds.
+        #[arg(long, default_value_t = 60.0)]
+        time_limit: f64,
+        /// Runs per instance (seeds seed, seed+1, …).
+        #[arg(long, default_value_t = 1)]
+        runs: usize,
+        /// First seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Effort preset: fast, default or slow.
+        #[arg(long, default_value = "default")]
+        mode: String,
+        /// Only instances with at least this many sets.
+        #[arg(long, default_value_t = 0)]
+        min_sets: usize,
+        /// Only instances with at most this many sets.
+        #[arg(long, default_value_t = usize::MAX)]
+        max_sets: usize,
+        /// Also write per-instance results and the summary as JSON to this file.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
 }
 
 /// Which scenario to use: a built-in name or a path to a scenario TOML file.
@@ -125,13 +178,69 @@ fn main() -> ExitCode {
             time_limit,
             &out,
         ),
+        Command::Gtsp(GtspCommand::Solve {
+            file,
+            time_limit,
+            seed,
+            mode,
+            json,
+        }) => cmd_gtsp::parse_mode(&mode)
+            .and_then(|m| cmd_gtsp::solve_file(&file, time_limit, seed, m, json)),
+        Command::Gtsp(GtspCommand::Bench {
+            dir,
+            time_limit,
+            runs,
+            seed,
+            mode,
+            min_sets,
+            max_sets,
+            json,
+        }) => cmd_gtsp::parse_mode(&mode).and_then(|mode| {
+            let o = cmd_gtsp::BenchOptions {
+                time_limit,
+                runs,
+                seed,
+                mode,
+                min_sets,
+                max_sets,
+            };
+            cmd_gtsp::bench(&dir, &o, json.as_deref())
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            // One line: the context chain joined by ": ".
-            eprintln!("error: {}", format!("{e:#}").replace('\n', " "));
+            eprintln!("error: {}", one_line(&e));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// The error and its causes on one line, joined by ": ". A cause whose text the line already
+/// holds is skipped (library errors often embed their source in their own message).
+fn one_line(e: &anyhow::Error) -> String {
+    let mut line = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !line.contains(&c) {
+            line.push_str(": ");
+            line.push_str(&c);
+        }
+    }
+    line.replace('\n', " ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::one_line;
+    use anyhow::Context;
+
+    #[test]
+    fn causes_already_in_the_message_are_not_repeated() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "no such file");
+        let e = anyhow::Error::new(io).context("cannot read a.gtsp: no such file");
+        assert_eq!(one_line(&e), "cannot read a.gtsp: no such file");
+        let r: Result<(), _> = Err(anyhow::anyhow!("line 3: bad value")).context("a.gtsp");
+        assert_eq!(one_line(&r.unwrap_err()), "a.gtsp: line 3: bad value");
     }
 }

@@ -208,3 +208,87 @@ fn errors_are_one_line_and_name_the_problem() {
     ]));
     assert!(e.contains("lane-spacing"), "{e}");
 }
+
+/// A 6-vertex, 3-set GTSPLIB instance (EUC_2D): sets {1,2}, {3,4}, {5,6}. The best tour visits
+/// vertices 1, 3, 5, the 3-4-5 triangle (0,0), (3,0), (0,4): 3 + 5 + 4 = 12.
+const TINY: &str = "NAME: tiny6\nTYPE: GTSP\nDIMENSION: 6\nGTSP_SETS: 3\nEDGE_WEIGHT_TYPE: EUC_2D\n\
+NODE_COORD_SECTION\n1 0 0\n2 -10 -10\n3 3 0\n4 30 0\n5 0 4\n6 0 40\n\
+GTSP_SET_SECTION\n1 1 2 -1\n2 3 4 -1\n3 5 6 -1\nEOF\n";
+
+#[test]
+fn gtsp_solve_prints_one_json_object_with_a_feasible_tour() {
+    let dir = temp_dir("gtsp-solve");
+    let f = dir.join("tiny6.gtsp");
+    std::fs::write(&f, TINY).unwrap();
+    let o = strider(&[
+        "gtsp",
+        "solve",
+        f.to_str().unwrap(),
+        "--time-limit",
+        "1",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(out.trim().lines().count(), 1, "{out}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["cost"], 12);
+    let mut tour: Vec<u64> = v["tour"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_u64().unwrap())
+        .collect();
+    tour.sort();
+    assert_eq!(tour, vec![1, 3, 5], "1-based ids, one per set");
+    assert!(v["time_s"].as_f64().unwrap() >= 0.0);
+    // Object keys in the documented order.
+    assert!(
+        out.find("\"cost\"") < out.find("\"tour\"")
+            && out.find("\"tour\"") < out.find("\"time_s\"")
+    );
+}
+
+#[test]
+fn gtsp_bench_reports_gaps_and_a_summary_line() {
+    let dir = temp_dir("gtsp-bench");
+    std::fs::write(dir.join("tiny6.gtsp"), TINY).unwrap();
+    std::fs::write(
+        dir.join("best_known.csv"),
+        "instance,sets,vertices,best_known,source\ntiny6,3,6,12,hand\n",
+    )
+    .unwrap();
+    let json = dir.join("bench.json");
+    let o = strider(&[
+        "gtsp",
+        "bench",
+        dir.to_str().unwrap(),
+        "--time-limit",
+        "1",
+        "--runs",
+        "2",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let last = out.trim().lines().last().unwrap();
+    assert!(
+        last.starts_with("instances=1 mean_gap_pct=0.0000 max_gap_pct=0.0000 total_s="),
+        "{last}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    assert_eq!(v["instances"][0]["costs"], serde_json::json!([12, 12]));
+
+    // A malformed instance: the error names the file and the line.
+    std::fs::write(dir.join("tiny6.gtsp"), TINY.replace("3 3 0", "3 3 zero")).unwrap();
+    let e = assert_one_line_error(&strider(&[
+        "gtsp",
+        "bench",
+        dir.to_str().unwrap(),
+        "--time-limit",
+        "1",
+    ]));
+    assert!(e.contains("tiny6.gtsp") && e.contains("line 9"), "{e}");
+}

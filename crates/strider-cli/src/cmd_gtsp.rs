@@ -1,0 +1,237 @@
+//! `strider gtsp …`: solve one GTSPLIB/TSPLIB instance, or benchmark a folder of them against
+//! their best-known values.
+
+use std::fs;
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+use serde_json::json;
+use strider_plan::tsplib::read_instance_file;
+use strider_plan::{Instance, Mode, Solution, SolverParams, solve};
+
+/// Parses a solver mode name.
+pub fn parse_mode(s: &str) -> Result<Mode> {
+    Ok(match s {
+        "fast" => Mode::Fast,
+        "default" => Mode::Default,
+        "slow" => Mode::Slow,
+        _ => bail!("unknown --mode {s:?}: use fast, default or slow"),
+    })
+}
+
+fn params(time_limit: f64, seed: u64, mode: Mode) -> Result<SolverParams> {
+    if !(time_limit.is_finite() && time_limit > 0.0) {
+        bail!("--time-limit must be a positive number of seconds, got {time_limit}");
+    }
+    Ok(SolverParams {
+        mode,
+        time_limit_s: time_limit,
+        seed,
+        ..SolverParams::default()
+    })
+}
+
+/// Reads an instance; parse errors (which carry the line) are prefixed with the file.
+fn read_instance(path: &Path) -> Result<Instance> {
+    read_instance_file(path).map_err(|e| match e {
+        strider_plan::TsplibError::Io { .. } => anyhow::Error::new(e),
+        e => anyhow::Error::new(e).context(path.display().to_string()),
+    })
+}
+
+/// Solves and checks the answer: one vertex per set, reported cost equal to a re-evaluation.
+fn solve_checked(inst: &Instance, p: &SolverParams, path: &Path) -> Result<Solution> {
+    let sol = solve(inst, p).with_context(|| format!("{}: cannot solve", path.display()))?;
+    inst.check_tour(&sol.tour)
+        .with_context(|| format!("{}: solver returned an infeasible tour", path.display()))?;
+    let re = inst.tour_cost(&sol.tour);
+    if re != sol.cost {
+        bail!(
+            "{}: solver reported cost {} but the tour re-evaluates to {re}",
+            path.display(),
+            sol.cost
+        );
+    }
+    Ok(sol)
+}
+
+/// Runs `strider gtsp solve`.
+pub fn solve_file(
+    file: &Path,
+    time_limit: f64,
+    seed: u64,
+    mode: Mode,
+    as_json: bool,
+) -> Result<()> {
+    let inst = read_instance(file)?;
+    let sol = solve_checked(&inst, &params(time_limit, seed, mode)?, file)?;
+    // Vertex ids as in the file (1-based).
+    let tour: Vec<usize> = sol.tour.iter().map(|v| v + 1).collect();
+    if as_json {
+        println!(
+            "{}",
+            json!({"cost": sol.cost, "tour": tour, "time_s": sol.time_s})
+        );
+    } else {
+        println!(
+            "instance {} ({} sets, {} vertices)",
+            inst.name,
+            inst.sets.len(),
+            inst.n
+        );
+        println!("cost {}", sol.cost);
+        println!(
+            "tour {}",
+            tour.iter()
+                .map(|v| v.to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+        println!("time_s {:.3}", sol.time_s);
+    }
+    Ok(())
+}
+
+/// One row of a reference table: instance name, set count and best-known cost.
+struct Reference {
+    name: String,
+    sets: usize,
+    best_known: i64,
+    file: String,
+}
+
+/// Reads `DIR/best_known.csv` (GTSPLIB: instance,sets,vertices,best_known,…) or, failing that,
+/// `DIR/optima.csv` (TSPLIB: instance,dimension,edge_weight_type,optimal_length,…).
+fn references(dir: &Path) -> Result<Vec<Reference>> {
+    let (csv, tsp) = if dir.join("best_known.csv").is_file() {
+        (dir.join("best_known.csv"), false)
+    } else if dir.join("optima.csv").is_file() {
+        (dir.join("optima.csv"), true)
+    } else {
+        bail!(
+            "{}: no best_known.csv (GTSPLIB) or optima.csv (TSPLIB) in this folder",
+            dir.display()
+        );
+    };
+    let text =
+        fs::read_to_string(&csv).with_context(|| format!("{}: cannot read", csv.display()))?;
+    let mut out = Vec::new();
+    for (ln, line) in text.lines().enumerate().skip(1) {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let f: Vec<&str> = line.split(',').collect();
+        let bad = || {
+            format!(
+                "{}:{}: expected instance,count,…,best value",
+                csv.display(),
+                ln + 1
+            )
+        };
+        if f.len() < 4 {
+            bail!(bad());
+        }
+        let count: usize = f[1].trim().parse().with_context(bad)?;
+        let best_known: i64 = f[3].trim().parse().with_context(bad)?;
+        let name = f[0].trim().to_string();
+        let file = if tsp {
+            format!("{name}.tsp")
+        } else {
+            format!("{name}.gtsp")
+        };
+        // A TSP instance has one set per vertex.
+        out.push(Reference {
+            sets: count,
+            best_known,
+            file,
+            name,
+        });
+    }
+    Ok(out)
+}
+
+/// Options of `strider gtsp bench`.
+pub struct BenchOptions {
+    /// Time limit per run, seconds.
+    pub time_limit: f64,
+    /// Runs per instance (seeds seed, seed+1, …).
+    pub runs: usize,
+    /// First seed.
+    pub seed: u64,
+    /// Effort preset.
+    pub mode: Mode,
+    /// Only instances with at least this many sets.
+    pub min_sets: usize,
+    /// Only instances with at most this many sets.
+    pub max_sets: usize,
+}
+
+/// Runs `strider gtsp bench`.
+pub fn bench(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()> {
+    if o.runs == 0 {
+        bail!("--runs must be at least 1");
+    }
+    let refs = references(dir)?;
+    println!(
+        "{:<12} {:>5} {:>5} {:>10} {:>10} {:>9} {:>9} {:>8}",
+        "instance", "sets", "n", "best_known", "best_cost", "gap_pct", "max_gap", "time_s"
+    );
+    let (mut gaps, mut total_s, mut rows) = (Vec::new(), 0.0, Vec::new());
+    for r in refs
+        .iter()
+        .filter(|r| r.sets >= o.min_sets && r.sets <= o.max_sets)
+    {
+        let path = dir.join(&r.file);
+        let inst = read_instance(&path)?;
+        let (mut best, mut sum_gap, mut max_gap, mut time) =
+            (i64::MAX, 0.0, f64::NEG_INFINITY, 0.0);
+        let mut costs = Vec::new();
+        for k in 0..o.runs {
+            let sol = solve_checked(
+                &inst,
+                &params(o.time_limit, o.seed + k as u64, o.mode)?,
+                &path,
+            )?;
+            let gap = 100.0 * (sol.cost - r.best_known) as f64 / r.best_known as f64;
+            gaps.push(gap);
+            best = best.min(sol.cost);
+            sum_gap += gap;
+            max_gap = max_gap.max(gap);
+            time += sol.time_s;
+            costs.push(sol.cost);
+        }
+        total_s += time;
+        let mean_gap = sum_gap / o.runs as f64;
+        println!(
+            "{:<12} {:>5} {:>5} {:>10} {:>10} {:>9.4} {:>9.4} {:>8.3}",
+            r.name,
+            inst.sets.len(),
+            inst.n,
+            r.best_known,
+            best,
+            mean_gap,
+            max_gap,
+            time / o.runs as f64
+        );
+        rows.push(json!({
+            "instance": r.name, "sets": inst.sets.len(), "vertices": inst.n,
+            "best_known": r.best_known, "costs": costs, "best_cost": best,
+            "mean_gap_pct": mean_gap, "max_gap_pct": max_gap, "mean_time_s": time / o.runs as f64,
+        }));
+    }
+    let n = rows.len();
+    let mean = gaps.iter().sum::<f64>() / gaps.len().max(1) as f64;
+    let max = gaps.iter().copied().fold(0.0, f64::max);
+    println!("instances={n} mean_gap_pct={mean:.4} max_gap_pct={max:.4} total_s={total_s:.2}");
+    if let Some(out) = json_out {
+        let doc = json!({
+            "dir": dir.display().to_string(),
+            "time_limit_s": o.time_limit, "runs": o.runs, "seed": o.seed,
+            "instances": rows,
+            "summary": {"instances": n, "mean_gap_pct": mean, "max_gap_pct": max, "total_s": total_s},
+        });
+        fs::write(out, serde_json::to_string_pretty(&doc)? + "\n")
+            .with_context(|| format!("{}: cannot write", out.display()))?;
+    }
+    Ok(())
+}
