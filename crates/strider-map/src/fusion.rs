@@ -59,6 +59,8 @@ pub struct FuseStats {
 pub(crate) struct FusionScratch {
     /// Highest return per cell (pass 1), −∞ where none.
     max_z: Vec<f32>,
+    /// Per return, where pass 1 located it (reused by pass 2); `ci == u32::MAX` when skipped.
+    located: Vec<Located>,
     /// Carving bound per cell: the lowest height at which a beam of this scan crossed the cell's
     /// column (pass 2), +∞ where none.
     carve_z: Vec<f32>,
@@ -68,6 +70,17 @@ pub(crate) struct FusionScratch {
     best_var: Vec<f32>,
     /// Colour of the kept return.
     best_rgb: Vec<[u8; 3]>,
+}
+
+/// Where a return lies: cell column/row in the scan rectangle, position inside the cell (cell
+/// units) and its measurement variance σ².
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Located {
+    ci: u32,
+    cj: u32,
+    u: f32,
+    v: f32,
+    var: f32,
 }
 
 /// A return's squared range from the origin when it is usable: `Ok(range²)`, or
@@ -174,14 +187,28 @@ impl ElevationMap {
 
         // Pass 1: highest return per cell, and ray carving over the last stretch of each beam.
         let (wf, hf) = (w as f32, rect.height as f32);
+        s.located.clear();
         for (idx, p) in cloud.points.iter().enumerate() {
             let Ok(r2) = classify_point(p, o, max_r2) else {
+                s.located.push(Located {
+                    ci: u32::MAX,
+                    ..Located::default()
+                });
                 continue;
             };
             let (ci, cj, u, v) = locate(p);
             let k = cj * w + ci;
             let m = &mut s.max_z[k];
             *m = m.max(p.z);
+            let kr = kd * r2;
+            let var = sd2 + kr * kr;
+            s.located.push(Located {
+                ci: ci as u32,
+                cj: cj as u32,
+                u,
+                v,
+                var,
+            });
             if idx % CARVE_EVERY != 0 {
                 continue;
             }
@@ -189,8 +216,7 @@ impl ElevationMap {
             // Beam geometry in cell units relative to the rect. Trust the beam up to
             // CARVE_SIGMAS·σ short of the return: the true hit may lie anywhere within the range
             // noise before it.
-            let kr = kd * r2;
-            let back = CARVE_SIGMAS * (sd2 + kr * kr).sqrt();
+            let back = CARVE_SIGMAS * var.sqrt();
             let (vx, vy, vz) = (p.x - o[0], p.y - o[1], p.z - o[2]);
             let lh = (vx * vx + vy * vy).sqrt() * inv_d; // horizontal beam length, cells
             let r = r2.sqrt();
@@ -225,14 +251,12 @@ impl ElevationMap {
         let hgt = rect.height as usize;
         // Pass 2: mixed-cell rule and carving bound, then the highest kept return per cell is
         // the measurement.
-        for p in &cloud.points {
-            let Ok(r2) = classify_point(p, o, max_r2) else {
+        for (p, l) in cloud.points.iter().zip(&s.located) {
+            if l.ci == u32::MAX {
                 continue;
-            };
-            let (ci, cj, u, v) = locate(p);
+            }
+            let (ci, cj, u, v, var) = (l.ci as usize, l.cj as usize, l.u, l.v, l.var);
             let k = cj * w + ci;
-            let kr = kd * r2;
-            let var = sd2 + kr * kr;
             let sigma3 = 3.0 * var.sqrt();
             let edge = sigma3 * inv_d; // 3σ in cell units
             let below = |nk: usize| p.z < s.max_z[nk] - sigma3;
