@@ -5,7 +5,11 @@
 //! * [`gtsp`] solves the (open or closed, symmetric or asymmetric)
 //!   Generalized Traveling Salesman Problem: visit exactly one vertex of every
 //!   set at minimum cost. See the module docs for the algorithm.
+//! * [`grid`] plans cheapest 8-connected paths on cost rasters (Dijkstra, A*, parallel
+//!   all-pairs site costs) and builds the planning cost grid (best gait, c_loss distance
+//!   transform, footprint max, gait choice).
 
+pub mod grid;
 pub mod gtsp;
 pub mod tsplib;
 

@@ -1,0 +1,20 @@
+//! Cost-aware path planning on dense rasters of the global cell lattice (`001` Eq. 1–4, 12–13,
+//! Alg. 4; decisions 4, 21, 22, 23).
+//!
+//! * [`cost_grid`] — [`CostGrid`], per-cell per-metre cost with `+∞` for inadmissible cells;
+//! * [`dijkstra`] — reusable 8-connected Dijkstra / A* ([`Dijkstra`]), source-cell edge costs;
+//! * [`all_pairs`](mod@all_pairs) — parallel cost matrix between sites ([`SiteCosts`]);
+//! * [`transform`] — best-gait grid, c_loss distance transform, footprint max, gait choice.
+
+pub mod all_pairs;
+pub mod cost_grid;
+pub mod dijkstra;
+pub mod transform;
+
+pub use all_pairs::{SiteCosts, all_pairs};
+pub use cost_grid::{CostGrid, GridError};
+pub use dijkstra::{Dijkstra, NO_PRED, SearchError, path_cost};
+pub use transform::{
+    BestGait, best_gait, choose_gait, choose_gait_with, distance_transform, footprint_max,
+    planning_grid,
+};

@@ -1,0 +1,262 @@
+//! Cost-grid transforms used before planning (`001` §4.3, decisions 4, 21, 22):
+//!
+//! * [`best_gait`] — Eq. 13, ĉ(ν) = min_g ĉ_{C^g}(ν), with the arg-min gait per cell;
+//! * [`distance_transform`] — decision 21, ĉ'(ν) = max(ĉ(ν), max_ν' [ĉ(ν') − c_loss·‖ν − ν'‖]),
+//!   discouraging paths near terrain boundaries where gait changes are likely;
+//! * [`footprint_max`] — Eq. 12, the maximum over the robot's disc footprint δ(r_robot, ν);
+//! * [`choose_gait`] — Alg. 4 line 6, argmin_g max_{ν' ∈ δ(r_robot, ν)} ĉ_{C^g}(ν');
+//! * [`planning_grid`] — the chain of decision 21: distance transform, then footprint max.
+//!
+//! Inadmissible cells (`+∞`) stay inadmissible through the distance transform and are not cone
+//! sources (an infinite cone would swamp the whole grid). Through the footprint max an
+//! inadmissible cell makes every cell within r_robot inadmissible: this is exactly the
+//! configuration-space inflation of decision 4. Cells outside the grid are ignored (unknown).
+
+use super::cost_grid::{CostGrid, GridError};
+use strider_core::Cell;
+use strider_core::grid::disc_offsets;
+
+/// Result of Eq. 13: the best-gait cost grid and, per cell, the index of the gait achieving it
+/// (`None` where every gait is inadmissible). Ties go to the lowest gait index.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BestGait {
+    /// ĉ(ν) = min_g ĉ_{C^g}(ν).
+    pub cost: CostGrid,
+    /// Row-major arg-min gait index.
+    pub gait: Vec<Option<u16>>,
+}
+
+fn check_shapes(grids: &[CostGrid]) -> Result<&CostGrid, GridError> {
+    let first = grids.first().ok_or(GridError::Empty)?;
+    if grids.iter().any(|g| !g.same_shape(first)) {
+        return Err(GridError::ShapeMismatch);
+    }
+    Ok(first)
+}
+
+/// Eq. 13: per-cell minimum (and arg-min) over per-gait cost grids, which must share rectangle
+/// and cell size. At most `u16::MAX` gaits.
+pub fn best_gait(grids: &[CostGrid]) -> Result<BestGait, GridError> {
+    let first = check_shapes(grids)?;
+    if grids.len() > u16::MAX as usize {
+        return Err(GridError::BadParameter {
+            name: "gait count",
+            value: grids.len() as f64,
+        });
+    }
+    let n = first.len();
+    let mut cost = vec![f32::INFINITY; n];
+    let mut gait = vec![None; n];
+    for (g, grid) in grids.iter().enumerate() {
+        for (k, &c) in grid.costs().iter().enumerate() {
+            if c < cost[k] {
+                cost[k] = c;
+                gait[k] = Some(g as u16);
+            }
+        }
+    }
+    Ok(BestGait {
+        cost: CostGrid::new(first.rect(), first.cell_size(), cost)?,
+        gait,
+    })
+}
+
+/// Decision 21: ĉ'(ν) = max(ĉ(ν), max_ν' [ĉ(ν') − c_loss·‖ν − ν'‖]) with ‖·‖ the Euclidean distance
+/// between cell centres in metres, over admissible sources ν'. Exact.
+///
+/// **Method.** Every admissible cell ν' is a cone source of height ĉ(ν') and slope c_loss. A cone
+/// can only raise cells within R = (ĉ(ν') − min ĉ)/c_loss of its apex (elsewhere it is below the
+/// grid minimum), so each source is scattered over that disc only. Sources are processed in
+/// decreasing cost order; a source whose current value already exceeds its own cost has been
+/// raised by a higher source ν'' with ĉ(ν'') − c_loss‖ν' − ν''‖ > ĉ(ν'), and by the triangle
+/// inequality ν'''s cone then lies above ν''s everywhere, so ν' is skipped. The result equals the
+/// O(n²) definition; the cost is Σ over undominated sources of their disc areas. (A Dijkstra-like
+/// max-propagation over the 8-neighbourhood would give octile, not Euclidean, distances and
+/// overestimate the raise along off-axis directions, hence this exact scatter.)
+///
+/// `c_loss = 0` raises every admissible cell to the grid's maximum finite cost.
+pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, GridError> {
+    if !(c_loss.is_finite() && c_loss >= 0.0) {
+        return Err(GridError::BadParameter {
+            name: "c_loss",
+            value: c_loss,
+        });
+    }
+    let cost = grid.costs();
+    let rect = grid.rect();
+    let (w, h) = (rect.width as i64, rect.height as i64);
+    let c_min = grid.min_cost() as f64;
+    if c_loss == 0.0 {
+        let c_max = cost
+            .iter()
+            .copied()
+            .filter(|c| c.is_finite())
+            .fold(f32::NEG_INFINITY, f32::max);
+        let out = cost
+            .iter()
+            .map(|&c| if c.is_finite() { c_max } else { c })
+            .collect();
+        return CostGrid::new(rect, grid.cell_size(), out);
+    }
+    let slope = c_loss * grid.cell_size(); // per cell
+    let mut out: Vec<f64> = cost.iter().map(|&c| c as f64).collect();
+    let mut order: Vec<u32> = (0..cost.len() as u32)
+        .filter(|&k| cost[k as usize].is_finite())
+        .collect();
+    order.sort_by(|&a, &b| {
+        cost[b as usize]
+            .total_cmp(&cost[a as usize])
+            .then(a.cmp(&b))
+    });
+    for &s in &order {
+        let s = s as usize;
+        let cs = cost[s] as f64;
+        if out[s] > cs || cs <= c_min {
+            continue; // dominated, or a cone that cannot raise anything
+        }
+        let r = (cs - c_min) / slope;
+        let rc = r.floor() as i64;
+        let (si, sj) = ((s as i64) % w, (s as i64) / w);
+        for dj in -rc..=rc {
+            let j = sj + dj;
+            if j < 0 || j >= h {
+                continue;
+            }
+            let half = (r * r - (dj * dj) as f64).max(0.0).sqrt().floor() as i64;
+            let row = (j * w) as usize;
+            for i in (si - half).max(0)..=(si + half).min(w - 1) {
+                let q = row + i as usize;
+                let di = i - si;
+                let v = cs - slope * ((di * di + dj * dj) as f64).sqrt();
+                if v > out[q] {
+                    out[q] = v; // inadmissible cells hold +∞ and are never lowered
+                }
+            }
+        }
+    }
+    CostGrid::new(
+        rect,
+        grid.cell_size(),
+        out.into_iter().map(|v| v as f32).collect(),
+    )
+}
+
+/// Eq. 12: ĉ(ν) ← max over the disc δ(r_robot, ν) (cells whose centres lie within r_robot of
+/// ν's centre, [`disc_offsets`]) of ĉ(ν'); cells outside the grid are ignored.
+pub fn footprint_max(grid: &CostGrid, r_robot: f64) -> Result<CostGrid, GridError> {
+    if !(r_robot.is_finite() && r_robot >= 0.0) {
+        return Err(GridError::BadParameter {
+            name: "r_robot",
+            value: r_robot,
+        });
+    }
+    let offsets = disc_offsets(r_robot, grid.cell_size());
+    let rect = grid.rect();
+    let cost = grid.costs();
+    let (w, h) = (rect.width as i64, rect.height as i64);
+    let mut out = vec![0.0f32; cost.len()];
+    for (k, o) in out.iter_mut().enumerate() {
+        let (i, j) = ((k as i64) % w, (k as i64) / w);
+        let mut m = f32::NEG_INFINITY;
+        for &(di, dj) in &offsets {
+            let (x, y) = (i + di as i64, j + dj as i64);
+            if x >= 0 && y >= 0 && x < w && y < h {
+                m = m.max(cost[(y * w + x) as usize]);
+            }
+        }
+        *o = m;
+    }
+    CostGrid::new(rect, grid.cell_size(), out)
+}
+
+/// Decision 21 chain on a best-gait grid: [`distance_transform`] with `c_loss`, then
+/// [`footprint_max`] over `r_robot`. The result is what the planner searches.
+pub fn planning_grid(best: &CostGrid, c_loss: f64, r_robot: f64) -> Result<CostGrid, GridError> {
+    footprint_max(&distance_transform(best, c_loss)?, r_robot)
+}
+
+/// Alg. 4 line 6 with precomputed footprint offsets (see [`disc_offsets`]): the gait minimising
+/// the footprint maximum of its cost grid at `cell`, with that maximum. Ties go to the lowest
+/// index; footprint cells outside a grid are ignored. `None` when `cell` is outside the grids or
+/// every gait's footprint touches an inadmissible cell.
+pub fn choose_gait_with(
+    grids: &[CostGrid],
+    cell: Cell,
+    offsets: &[(i32, i32)],
+) -> Option<(usize, f32)> {
+    let first = check_shapes(grids).ok()?;
+    first.index(cell)?;
+    let mut best: Option<(usize, f32)> = None;
+    for (g, grid) in grids.iter().enumerate() {
+        let m = offsets
+            .iter()
+            .filter_map(|&(di, dj)| grid.cost(cell.offset(di, dj)))
+            .fold(f32::NEG_INFINITY, f32::max);
+        if m.is_finite() && best.is_none_or(|(_, b)| m < b) {
+            best = Some((g, m));
+        }
+    }
+    best
+}
+
+/// Alg. 4 line 6: g_best = argmin_g max_{ν' ∈ δ(r_robot, ν)} ĉ_{C^g}(ν') at `cell`; see
+/// [`choose_gait_with`].
+pub fn choose_gait(grids: &[CostGrid], cell: Cell, r_robot: f64) -> Option<(usize, f32)> {
+    let d = grids.first()?.cell_size();
+    choose_gait_with(grids, cell, &disc_offsets(r_robot, d))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use strider_core::CellRect;
+
+    #[test]
+    fn single_peak_cone() {
+        let rect = CellRect::new(Cell::new(0, 0), 7, 1);
+        let mut c = vec![1.0f32; 7];
+        c[0] = 5.0;
+        let g = CostGrid::new(rect, 0.5, c).unwrap();
+        let t = distance_transform(&g, 2.0).unwrap();
+        // slope per cell = 1.0
+        assert_eq!(t.costs(), &[5.0, 4.0, 3.0, 2.0, 1.0, 1.0, 1.0]);
+        assert!(distance_transform(&g, -1.0).is_err());
+        let z = distance_transform(&g, 0.0).unwrap();
+        assert!(z.costs().iter().all(|&v| v == 5.0));
+    }
+
+    #[test]
+    fn best_gait_and_choice() {
+        let rect = CellRect::new(Cell::new(0, 0), 3, 1);
+        let inf = f32::INFINITY;
+        let a = CostGrid::new(rect, 1.0, vec![1.0, 4.0, inf]).unwrap();
+        let b = CostGrid::new(rect, 1.0, vec![2.0, 3.0, inf]).unwrap();
+        let bg = best_gait(&[a.clone(), b.clone()]).unwrap();
+        assert_eq!(bg.cost.costs()[..2], [1.0, 3.0]);
+        assert_eq!(bg.gait, vec![Some(0), Some(1), None]);
+        // Footprint radius 1 at cell 0: gait a max 4, gait b max 3 → b.
+        assert_eq!(
+            choose_gait(&[a.clone(), b.clone()], Cell::new(0, 0), 1.0),
+            Some((1, 3.0))
+        );
+        assert_eq!(
+            choose_gait(&[a.clone(), b.clone()], Cell::new(0, 0), 0.0),
+            Some((0, 1.0))
+        );
+        assert_eq!(
+            choose_gait(&[a.clone(), b.clone()], Cell::new(1, 0), 1.0),
+            None
+        );
+        let other = CostGrid::filled(CellRect::new(Cell::new(0, 0), 2, 1), 1.0, 1.0).unwrap();
+        assert_eq!(best_gait(&[a, other]), Err(GridError::ShapeMismatch));
+        assert_eq!(best_gait(&[]), Err(GridError::Empty));
+    }
+
+    #[test]
+    fn footprint_inflates_obstacles() {
+        let rect = CellRect::new(Cell::new(0, 0), 5, 1);
+        let g = CostGrid::new(rect, 1.0, vec![1.0, 1.0, 1.0, 1.0, f32::INFINITY]).unwrap();
+        let f = footprint_max(&g, 1.0).unwrap();
+        assert_eq!(f.costs(), &[1.0, 1.0, 1.0, f32::INFINITY, f32::INFINITY]);
+    }
+}
