@@ -68,15 +68,19 @@ pub fn all_pairs(grid: &CostGrid, sites: &[Cell]) -> SiteCosts {
     }
     let blocks = rayon::current_num_threads().max(1) * 4;
     let chunk = n.div_ceil(blocks).max(1);
+    // The grid's move masks are built once and copied into each block's search.
+    let mut proto = Dijkstra::new();
+    proto.prepare(grid);
     let parts: Vec<Vec<f64>> = sites
         .par_chunks(chunk)
         .enumerate()
         .map(|(ci, block)| {
-            let mut dj = Dijkstra::new();
+            let mut dj = proto.clone();
             let mut out = Vec::with_capacity(block.len() * n);
             let mut row = Vec::with_capacity(n);
+            let mut pending = Vec::with_capacity(n);
             for (k, &s) in block.iter().enumerate() {
-                if dj.run_to_targets_into(grid, s, sites, &mut row).is_err() {
+                if dj.row_into(grid, s, sites, &mut pending, &mut row).is_err() {
                     row.clear();
                     row.resize(n, f64::INFINITY);
                 }

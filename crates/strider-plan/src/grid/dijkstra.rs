@@ -96,8 +96,6 @@ impl Queue for BinaryHeap<Entry> {
 #[derive(Clone, Debug, Default)]
 struct BucketQueue {
     inv_width: f64,
-    cur: usize,
-    len: usize,
     buckets: Vec<Vec<u32>>,
 }
 
@@ -125,34 +123,7 @@ impl BucketQueue {
         }
         self.buckets.truncate(ring);
         self.inv_width = 1.0 / width;
-        self.cur = 0;
-        self.len = 0;
         true
-    }
-}
-
-impl Queue for BucketQueue {
-    #[inline]
-    fn push(&mut self, key: f64, idx: u32) {
-        let b = (key * self.inv_width) as usize;
-        debug_assert!(b >= self.cur && b - self.cur < self.buckets.len());
-        let mask = self.buckets.len() - 1;
-        self.buckets[b.max(self.cur) & mask].push(idx);
-        self.len += 1;
-    }
-    #[inline]
-    fn pop(&mut self) -> Option<u32> {
-        if self.len == 0 {
-            return None;
-        }
-        let mask = self.buckets.len() - 1;
-        loop {
-            if let Some(idx) = self.buckets[self.cur & mask].pop() {
-                self.len -= 1;
-                return Some(idx);
-            }
-            self.cur += 1;
-        }
     }
 }
 
@@ -233,6 +204,27 @@ impl Dijkstra {
     }
 
     fn reset(&mut self, grid: &CostGrid, source: Cell) -> Result<usize, SearchError> {
+        self.reset_with(grid, source, true)
+    }
+
+    /// Builds (or reuses) the move masks of `grid`.
+    pub(crate) fn prepare(&mut self, grid: &CostGrid) {
+        // Grids are immutable and carry a unique id (shared by clones, which are equal), so
+        // the move masks are rebuilt only for a different grid.
+        if self.moves_of != Some(grid.id()) {
+            build_moves(grid, &mut self.moves);
+            self.moves_of = Some(grid.id());
+        }
+    }
+
+    /// As `reset`; without `full` the predecessor and settled fields are left as they are
+    /// (for [`row_into`](Self::row_into), which reads neither).
+    fn reset_with(
+        &mut self,
+        grid: &CostGrid,
+        source: Cell,
+        full: bool,
+    ) -> Result<usize, SearchError> {
         let n = grid.len();
         if n >= NO_PRED as usize {
             return Err(SearchError::GridTooLarge);
@@ -243,18 +235,15 @@ impl Dijkstra {
         if !grid.costs()[s].is_finite() {
             return Err(SearchError::SourceInadmissible(source));
         }
-        // Grids are immutable and carry a unique id (shared by clones, which are equal), so
-        // the move masks are rebuilt only for a different grid.
-        if self.moves_of != Some(grid.id()) {
-            build_moves(grid, &mut self.moves);
-            self.moves_of = Some(grid.id());
-        }
+        self.prepare(grid);
         self.dist.clear();
         self.dist.resize(n, f64::INFINITY);
-        self.pred.clear();
-        self.pred.resize(n, NO_PRED);
-        self.settled.clear();
-        self.settled.resize(n, false);
+        if full {
+            self.pred.clear();
+            self.pred.resize(n, NO_PRED);
+            self.settled.clear();
+            self.settled.resize(n, false);
+        }
         self.heap.clear();
         self.rect = Some(grid.rect());
         self.source = Some(s);
@@ -308,10 +297,116 @@ impl Dijkstra {
         }
     }
 
+    /// Dijkstra on the bucket queue. While it runs, a settled cell is marked by the sign bit of
+    /// its distance (`-0.0` for the source), which keeps the hot loop on one array: a relaxation
+    /// `nd < dist[q]` then also fails for every settled `q`. A cell is pushed on every
+    /// improvement; the stale copies are skipped when popped (negative distance). Each bucket is
+    /// scanned as a whole, in push order: by the argument of `BucketQueue` all its cells are
+    /// final, and it receives no pushes while it is scanned.
+    ///
+    /// `stop(p)` is asked after each newly settled cell, `bucket_done(dist)` after each bucket;
+    /// either ends the search. With `PUBLIC` predecessors are recorded and on return the
+    /// distances are made positive again and `settled` is filled; without it (all-pairs rows)
+    /// neither happens, and settled cells keep negative distances.
+    fn bucket_search<const PUBLIC: bool>(
+        &mut self,
+        bq: &mut BucketQueue,
+        grid: &CostGrid,
+        s: usize,
+        mut stop: impl FnMut(usize) -> bool,
+        mut bucket_done: impl FnMut(&[f64]) -> bool,
+    ) {
+        let cost = grid.costs();
+        let n = cost.len();
+        let w = grid.rect().width as isize;
+        let delta: [isize; 8] = MOVES.map(|(di, dj)| di as isize + dj as isize * w);
+        let d = grid.cell_size();
+        let inv = bq.inv_width;
+        let mask = bq.buckets.len() - 1;
+        let moves = &self.moves[..n];
+        let dist = &mut self.dist[..n];
+        let pred = &mut self.pred[..];
+        let buckets = &mut bq.buckets;
+        // Keys are finite and far below 2^63 buckets here; `as i64` converts more cheaply.
+        let bucket_of = |k: f64| (k * inv) as i64 as usize;
+        let mut cur = bucket_of(dist[s]);
+        buckets[cur & mask].push(s as u32);
+        let mut len = 1usize;
+        'outer: while len > 0 {
+            let slot = cur & mask;
+            // Pushes during this bucket only go to later buckets (see `BucketQueue`; enforced
+            // below), so its list is fixed while it is scanned.
+            let list = std::mem::take(&mut buckets[slot]);
+            len -= list.len();
+            for &idx in &list {
+                let p = idx as usize;
+                let dp = dist[p];
+                if dp.is_sign_negative() {
+                    continue;
+                }
+                dist[p] = -dp;
+                if stop(p) {
+                    buckets[slot] = list;
+                    break 'outer;
+                }
+                // Eq. 4, decision 21: ‖ν_a, ν_b‖ (d or √2·d) × c(ν_a).
+                let axis = cost[p] as f64 * d;
+                let nds = [dp + axis, dp + axis * SQRT_2];
+                debug_assert!(bucket_of(nds[0]) > cur && bucket_of(nds[1]) > cur);
+                debug_assert!(bucket_of(nds[1]) - cur < buckets.len());
+                let bs = [
+                    bucket_of(nds[0]).max(cur + 1),
+                    bucket_of(nds[1]).max(cur + 1),
+                ];
+                // Two phases: first, without branches, the mask of the moves that improve
+                // their target (a forbidden move reads `p` itself, whose negative, settled
+                // distance no `nd` beats; so does every settled neighbour); then the updates.
+                let m = moves[p];
+                let mut olds = [0.0f64; 8];
+                let mut better = 0u32;
+                for k in 0..8 {
+                    let q = if (m >> k) & 1 != 0 {
+                        (p as isize + delta[k]) as usize
+                    } else {
+                        p
+                    };
+                    olds[k] = dist[q];
+                    better |= ((nds[k >> 2] < olds[k]) as u32) << k;
+                }
+                while better != 0 {
+                    let k = better.trailing_zeros() as usize;
+                    better &= better - 1;
+                    let q = (p as isize + delta[k]) as usize;
+                    dist[q] = nds[k >> 2];
+                    if PUBLIC {
+                        pred[q] = idx;
+                    }
+                    buckets[bs[k >> 2] & mask].push(q as u32);
+                    len += 1;
+                }
+            }
+            let mut list = list;
+            list.clear();
+            buckets[slot] = list;
+            cur += 1;
+            if bucket_done(dist) {
+                break;
+            }
+        }
+        if PUBLIC {
+            for (dk, sk) in dist.iter_mut().zip(&mut self.settled[..n]) {
+                if dk.is_sign_negative() {
+                    *dk = -*dk;
+                    *sk = true;
+                }
+            }
+        }
+    }
+
     fn dijkstra(&mut self, grid: &CostGrid, s: usize, stop: impl FnMut(usize) -> bool) {
         let mut buckets = std::mem::take(&mut self.buckets);
         if buckets.reset(grid) {
-            self.search(&mut buckets, grid, s, |_| 0.0, stop);
+            self.bucket_search::<true>(&mut buckets, grid, s, stop, |_| false);
         } else {
             let mut heap = std::mem::take(&mut self.heap);
             self.search(&mut heap, grid, s, |_| 0.0, stop);
@@ -377,6 +472,62 @@ impl Dijkstra {
         self.target = target;
         out.clear();
         out.extend(targets.iter().map(|&t| self.distance(t)));
+        Ok(())
+    }
+
+    /// Costs from `source` to each of `targets` (`+∞` when unreachable, inadmissible or
+    /// outside), as [`run_to_targets_into`](Self::run_to_targets_into) returns them, but
+    /// without recording predecessors: for the all-pairs matrix. Afterwards the search state
+    /// is unspecified until the next search; `pending` is scratch space.
+    pub(crate) fn row_into(
+        &mut self,
+        grid: &CostGrid,
+        source: Cell,
+        targets: &[Cell],
+        pending: &mut Vec<usize>,
+        out: &mut Vec<f64>,
+    ) -> Result<(), SearchError> {
+        let s = self.reset_with(grid, source, false)?;
+        let mut buckets = std::mem::take(&mut self.buckets);
+        if !buckets.reset(grid) {
+            self.buckets = buckets;
+            return self.run_to_targets_into(grid, source, targets, out);
+        }
+        // Targets still to settle; checked after each bucket from the back, so the search
+        // ends with the bucket that settles the last reachable target.
+        pending.clear();
+        pending.extend(
+            targets
+                .iter()
+                .rev()
+                .filter_map(|&t| grid.index(t))
+                .filter(|&k| grid.costs()[k].is_finite()),
+        );
+        if !pending.is_empty() {
+            self.bucket_search::<false>(
+                &mut buckets,
+                grid,
+                s,
+                |_| false,
+                |dist| {
+                    while let Some(&k) = pending.last() {
+                        if !dist[k].is_sign_negative() {
+                            return false;
+                        }
+                        pending.pop();
+                    }
+                    true
+                },
+            );
+        }
+        self.buckets = buckets;
+        let rect = grid.rect();
+        out.clear();
+        out.extend(targets.iter().map(|&t| match rect.index(t) {
+            // Settled cells carry their distance negated (see `bucket_search`).
+            Some(k) if self.dist[k].is_sign_negative() => -self.dist[k],
+            _ => f64::INFINITY,
+        }));
         Ok(())
     }
 
@@ -554,6 +705,52 @@ mod tests {
         assert!((dj.distance(Cell::new(1, 0)) - 0.1).abs() < 1e-12);
         dj.run(&g, Cell::new(1, 0)).unwrap();
         assert!((dj.distance(Cell::new(0, 0)) - 0.3).abs() < 1e-6);
+    }
+
+    /// The bucket-queue kernel (full runs and all-pairs rows) against the binary-heap search on
+    /// a grid large enough for many buckets, ring wrap-arounds and stale queue entries.
+    #[test]
+    fn bucket_kernel_matches_heap_search() {
+        let (w, h) = (47u32, 31u32);
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let costs: Vec<f32> = (0..w * h)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                if x.is_multiple_of(5) {
+                    f32::INFINITY
+                } else {
+                    1.0 + (x >> 40) as f32 / (1u64 << 24) as f32 * 6.0
+                }
+            })
+            .collect();
+        let g = CostGrid::new(CellRect::new(Cell::new(-7, 3), w, h), 0.3, costs).unwrap();
+        let cells: Vec<Cell> = g.rect().cells().filter(|&c| g.is_admissible(c)).collect();
+        let sites: Vec<Cell> = cells.iter().copied().step_by(97).collect();
+        let close = |a: f64, b: f64| a == b || (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+        let (mut fast, mut slow) = (Dijkstra::new(), Dijkstra::new());
+        let (mut pending, mut row) = (Vec::new(), Vec::new());
+        for &src in &sites {
+            fast.run(&g, src).unwrap();
+            let s = slow.reset(&g, src).unwrap();
+            let mut heap = BinaryHeap::new();
+            slow.search(&mut heap, &g, s, |_| 0.0, |_| false);
+            for &c in &cells {
+                let (a, b) = (fast.distance(c), slow.distance(c));
+                assert!(close(a, b), "{src:?} → {c:?}: {a} vs {b}");
+                if let Some(p) = fast.path_to(c) {
+                    assert!(close(path_cost(&g, &p).unwrap(), a));
+                }
+            }
+            let r = fast.run_to_targets(&g, src, &sites).unwrap();
+            fast.row_into(&g, src, &sites, &mut pending, &mut row)
+                .unwrap();
+            for (k, &t) in sites.iter().enumerate() {
+                assert!(close(r[k], slow.distance(t)));
+                assert!(close(row[k], slow.distance(t)));
+            }
+        }
     }
 
     #[test]
