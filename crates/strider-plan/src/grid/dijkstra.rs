@@ -127,17 +127,9 @@ impl BucketQueue {
     }
 }
 
-/// Moves in bit order of the move masks: axis moves first, then diagonals.
-const MOVES: [(i32, i32); 8] = [
-    (1, 0),
-    (0, 1),
-    (-1, 0),
-    (0, -1),
-    (1, 1),
-    (-1, 1),
-    (-1, -1),
-    (1, -1),
-];
+/// Moves in bit order of the move masks: the lattice's 8-neighbourhood (axis moves first, then
+/// diagonals), so bit `b` is `NEIGHBOURS8[b]`.
+const MOVES: [(i32, i32); 8] = strider_core::grid::NEIGHBOURS8;
 
 /// Per-cell bit mask of the allowed moves (Eq. 1 plus the corner rule), built once per grid.
 fn build_moves(grid: &CostGrid, out: &mut Vec<u8>) {
