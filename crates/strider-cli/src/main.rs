@@ -4,6 +4,7 @@
 //! loads a scenario, wires the simulator to the algorithms through the robot interface, and
 //! writes figures and JSON. Errors end in one line on stderr and exit code 1.
 
+mod cmd_gp;
 mod cmd_gtsp;
 mod cmd_map;
 mod cmd_scenario;
@@ -37,6 +38,45 @@ enum Command {
     /// The Generalized TSP solver that orders exploration goals, on GTSPLIB/TSPLIB files.
     #[command(subcommand)]
     Gtsp(GtspCommand),
+    /// Exact Gaussian-process regression (the traversal-cost model) on CSV files.
+    #[command(subcommand)]
+    Gp(GpCommand),
+}
+
+#[derive(Subcommand, Debug)]
+enum GpCommand {
+    /// Fit a GP with fixed hyperparameters to a training CSV (header; features then y per row)
+    /// and write the predictive mean and latent variance (without noise) for every row of a
+    /// query CSV (header; features) as `mean,variance`.
+    Predict {
+        /// Training CSV: a header line, then the features and y on each row.
+        #[arg(long)]
+        train: PathBuf,
+        /// Query CSV: a header line, then the features on each row.
+        #[arg(long)]
+        query: PathBuf,
+        /// Kernel: se (squared exponential), exp, matern32 or matern52.
+        #[arg(long, default_value = "se")]
+        kernel: String,
+        /// Isotropic lengthscale l.
+        #[arg(long, default_value_t = 0.4)]
+        lengthscale: f64,
+        /// Signal variance σ_s².
+        #[arg(long, default_value_t = 1.0)]
+        signal_variance: f64,
+        /// Noise variance σ_n² (σ_ε = 0.5).
+        #[arg(long, default_value_t = 0.25)]
+        noise_variance: f64,
+        /// Constant prior mean.
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        prior_mean: f64,
+        /// Output CSV with the header `mean,variance`, one row per query, full precision.
+        #[arg(long, short = 'o')]
+        out: PathBuf,
+        /// Also write {"n_train", "n_query", "fit_s", "predict_s"} (measured in-process) here.
+        #[arg(long)]
+        timing_json: Option<PathBuf>,
+    },
 }
 
 #[derive(Subcommand, Debug)]
@@ -205,6 +245,27 @@ fn main() -> ExitCode {
                 max_sets,
             };
             cmd_gtsp::bench(&dir, &o, json.as_deref())
+        }),
+        Command::Gp(GpCommand::Predict {
+            train,
+            query,
+            kernel,
+            lengthscale,
+            signal_variance,
+            noise_variance,
+            prior_mean,
+            out,
+            timing_json,
+        }) => cmd_gp::predict(&cmd_gp::PredictOptions {
+            train: &train,
+            query: &query,
+            kernel: &kernel,
+            lengthscale,
+            signal_variance,
+            noise_variance,
+            prior_mean,
+            out: &out,
+            timing_json: timing_json.as_deref(),
         }),
     };
     match result {

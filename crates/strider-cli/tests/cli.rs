@@ -292,3 +292,77 @@ fn gtsp_bench_reports_gaps_and_a_summary_line() {
     ]));
     assert!(e.contains("tiny6.gtsp") && e.contains("line 9"), "{e}");
 }
+
+#[test]
+fn gp_predict_writes_mean_and_variance_and_reports_bad_rows() {
+    let dir = temp_dir("gp-predict");
+    let (train, query, out, timing) = (
+        dir.join("train.csv"),
+        dir.join("query.csv"),
+        dir.join("pred.csv"),
+        dir.join("timing.json"),
+    );
+    // One training point at x = 0 with y = 1; defaults: SE, l = 0.4, σ_s² = 1, σ_n² = 0.25.
+    std::fs::write(&train, "x,y\n0.0,1.0\n").unwrap();
+    std::fs::write(&query, "x\n0.0\n0.4\n").unwrap();
+    let o = strider(&[
+        "gp",
+        "predict",
+        "--train",
+        train.to_str().unwrap(),
+        "--query",
+        query.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--timing-json",
+        timing.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("mean,variance"));
+    let rows: Vec<(f64, f64)> = lines
+        .map(|l| {
+            let (a, b) = l.split_once(',').unwrap();
+            (a.parse().unwrap(), b.parse().unwrap())
+        })
+        .collect();
+    // At x = 0: mean = 1/1.25 = 0.8, variance = 1 − 1/1.25 = 0.2. At x = 0.4 (r = 1):
+    // k = e^(−1/2), mean = k/1.25, variance = 1 − k²/1.25.
+    let k = (-0.5f64).exp();
+    let want = [(0.8, 0.2), (k / 1.25, 1.0 - k * k / 1.25)];
+    assert_eq!(rows.len(), 2);
+    for (r, w) in rows.iter().zip(want) {
+        assert!(
+            (r.0 - w.0).abs() < 1e-15 && (r.1 - w.1).abs() < 1e-15,
+            "{r:?} vs {w:?}"
+        );
+    }
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&timing).unwrap()).unwrap();
+    assert_eq!(
+        (v["n_train"].as_u64(), v["n_query"].as_u64()),
+        (Some(1), Some(2))
+    );
+    assert!(v["fit_s"].as_f64().unwrap() >= 0.0 && v["predict_s"].as_f64().unwrap() >= 0.0);
+
+    // Bad rows: the error names the file, the line and the problem.
+    for (content, needle) in [
+        ("x,y\n0.0,1.0\n0.5\n", "line 3: 1 columns"),
+        ("x,y\n0.0,one\n", "line 2: field 2 \"one\" is not a number"),
+        ("x,y\n0.0,NaN\n", "line 2: field 2 is NaN"),
+    ] {
+        std::fs::write(&train, content).unwrap();
+        let e = assert_one_line_error(&strider(&[
+            "gp",
+            "predict",
+            "--train",
+            train.to_str().unwrap(),
+            "--query",
+            query.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]));
+        assert!(e.contains("train.csv") && e.contains(needle), "{e}");
+    }
+}

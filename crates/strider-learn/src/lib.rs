@@ -1,0 +1,27 @@
+//! # strider-learn
+//!
+//! Traversal-cost learning (`001` §4.3, `000` §III–IV): everything between "the robot
+//! experienced this cost on this terrain" and "these are the planning costs per gait, and these
+//! are the goals where the models can still learn". One module per concept:
+//!
+//! * [`cost_model`]: the per-gait traversal cost model C^g (`001` Alg. 5–10, Eq. 12–18, 22–26).
+//! * [`descriptor_field`]: terrain descriptors (ta(ν) of `001` §4.2 or the 5-D descriptor of
+//!   `000` Eq. 10) flattened for the learners, non-finite values refused.
+//! * [`signals`]: cost measurements from pose/gait and proprioceptive streams — inverse velocity
+//!   with the tanh bound (`001` Eq. 19–20, decision 8), roll variance (`000`), energy per metre
+//!   and cost of transport (thesis C1, `003`), stuck detection (decision 9).
+//! * [`gp`]: exact GP regression with O(n²) insert/remove of training points (`001` Eq. 14–16,
+//!   21; decisions 12–14).
+//! * [`rbcm`]: the robust Bayesian committee machine of GP experts (`000` Eq. 7–9, decision 15).
+//! * [`igng`]: incremental growing neural gas terrain classes (`001` Alg. 11, decision 17).
+//! * [`morphology`]: class erosion and dilation (`001` Eq. 25–26, decision 18).
+//!
+//! The crate works on the map crate's layers and descriptors and knows nothing of the simulator.
+
+pub mod cost_model;
+pub mod descriptor_field;
+pub mod gp;
+pub mod igng;
+pub mod morphology;
+pub mod rbcm;
+pub mod signals;

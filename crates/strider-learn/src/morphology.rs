@@ -1,0 +1,231 @@
+//! Erosion and dilation of terrain-class maps (`001` appendix Eq. 25–26, Alg. 7 line 9 and
+//! Alg. 10 line 2; decision 18).
+//!
+//! A class map is a dense row-major [`Raster`] of [`TerrainCell`] over a `CellRect`. Three
+//! states keep "never described" apart from "eroded":
+//!
+//! * [`TerrainCell::Unknown`] — the cell has no descriptor (Alg. 7 assigns classes only to
+//!   described cells). Neither operation ever changes it.
+//! * [`TerrainCell::Eroded`] — the eroded non-class ∅ of Eq. 25: described, but too close to a
+//!   class boundary.
+//! * [`TerrainCell::Class`] — an IGNG terrain class.
+//!
+//! **Erosion** (Eq. 25), repeated n_erode^steps times: a class cell keeps its class only when all
+//! of its 8 neighbours (δnb, the 8-neighbourhood of decision 18) carry the *same* class; otherwise
+//! it becomes ∅. Decisions where the paper is silent: an eroded neighbour and an unknown neighbour
+//! both count as different (the paper erodes "cells that border different (or already eroded)
+//! terrain", and an undescribed neighbour is exactly such an unreliable border), and a neighbour
+//! outside the raster counts as unknown — so pass a rectangle that covers the described cells
+//! with at least a one-cell margin if the raster edge is not a real border.
+//!
+//! **Dilation** (Eq. 26), repeated n_dilate^steps times: an *eroded* cell (and only an eroded cell,
+//! decision 18; class and unknown cells are never overwritten) takes the most common class among
+//! the cells of the (2·n_size + 1)² window centred on it (δnb repeated n_size times = the
+//! Chebyshev ball); eroded and unknown cells in the window do not vote, cells outside the raster do
+//! not exist. Ties go to the lowest [`ClassId`]; with no voting cell the cell stays ∅. Each step
+//! reads the previous step's map only (synchronous update), so the result does not depend on
+//! the scan order.
+//!
+//! Table 3 defaults: n_erode^steps = 2, n_dilate^steps = 3, n_dilate^size = 2.
+
+use strider_core::grid::NEIGHBOURS8;
+use strider_map::descriptors::Raster;
+use thiserror::Error;
+
+use crate::igng::ClassId;
+
+/// A class-map cell: no descriptor, eroded, or a class.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TerrainCell {
+    /// No descriptor (never classified); left alone by erosion and dilation.
+    #[default]
+    Unknown,
+    /// The eroded non-class ∅ of Eq. 25.
+    Eroded,
+    /// A terrain class.
+    Class(ClassId),
+}
+
+impl TerrainCell {
+    /// The class, if any.
+    pub fn class(self) -> Option<ClassId> {
+        match self {
+            TerrainCell::Class(c) => Some(c),
+            _ => None,
+        }
+    }
+}
+
+/// Errors of the morphology operations.
+#[derive(Clone, Debug, Error, PartialEq, Eq)]
+pub enum MorphologyError {
+    /// The raster's value count does not match its rectangle.
+    #[error("raster has {got} values but its rectangle holds {expected} cells")]
+    ShapeMismatch {
+        /// Cells in the rectangle.
+        expected: usize,
+        /// Values present.
+        got: usize,
+    },
+}
+
+fn check(raster: &Raster<TerrainCell>) -> Result<(), MorphologyError> {
+    let expected = raster.rect.len();
+    if raster.values.len() == expected {
+        Ok(())
+    } else {
+        Err(MorphologyError::ShapeMismatch {
+            expected,
+            got: raster.values.len(),
+        })
+    }
+}
+
+/// A class map from per-cell optional classes (e.g. Alg. 7 line 8's output): `None` → Unknown.
+pub fn from_classes(
+    rect: strider_core::grid::CellRect,
+    classes: &[Option<ClassId>],
+) -> Result<Raster<TerrainCell>, MorphologyError> {
+    let raster = Raster {
+        rect,
+        values: classes
+            .iter()
+            .map(|c| c.map_or(TerrainCell::Unknown, TerrainCell::Class))
+            .collect(),
+    };
+    check(&raster)?;
+    Ok(raster)
+}
+
+/// `steps` erosion steps of Eq. 25 (see the module documentation for the neighbour rules).
+pub fn erode(
+    raster: &Raster<TerrainCell>,
+    steps: usize,
+) -> Result<Raster<TerrainCell>, MorphologyError> {
+    check(raster)?;
+    let (w, h) = (raster.rect.width as usize, raster.rect.height as usize);
+    let mut cur = raster.values.clone();
+    let mut next = cur.clone();
+    for _ in 0..steps {
+        let mut changed = false;
+        for y in 0..h {
+            for x in 0..w {
+                let k = y * w + x;
+                let TerrainCell::Class(c) = cur[k] else {
+                    next[k] = cur[k];
+                    continue;
+                };
+                let keep = NEIGHBOURS8.iter().all(|&(di, dj)| {
+                    let (nx, ny) = (x as i64 + di as i64, y as i64 + dj as i64);
+                    nx >= 0
+                        && ny >= 0
+                        && (nx as usize) < w
+                        && (ny as usize) < h
+                        && cur[ny as usize * w + nx as usize] == TerrainCell::Class(c)
+                });
+                next[k] = if keep {
+                    cur[k]
+                } else {
+                    changed = true;
+                    TerrainCell::Eroded
+                };
+            }
+        }
+        std::mem::swap(&mut cur, &mut next);
+        if !changed {
+            break;
+        }
+    }
+    Ok(Raster {
+        rect: raster.rect,
+        values: cur,
+    })
+}
+
+/// `n_steps` dilation steps of Eq. 26 with window half-size `n_size` (see the module
+/// documentation): only eroded cells change.
+pub fn dilate(
+    raster: &Raster<TerrainCell>,
+    n_size: usize,
+    n_steps: usize,
+) -> Result<Raster<TerrainCell>, MorphologyError> {
+    check(raster)?;
+    let (w, h) = (raster.rect.width as usize, raster.rect.height as usize);
+    let mut cur = raster.values.clone();
+    let mut next = cur.clone();
+    // Votes of one window: (class, count), reused across cells.
+    let mut votes: Vec<(ClassId, u32)> = Vec::new();
+    for _ in 0..n_steps {
+        let mut changed = false;
+        for y in 0..h {
+            for x in 0..w {
+                let k = y * w + x;
+                next[k] = cur[k];
+                if cur[k] != TerrainCell::Eroded {
+                    continue;
+                }
+                votes.clear();
+                let (x0, x1) = (x.saturating_sub(n_size), (x + n_size).min(w - 1));
+                let (y0, y1) = (y.saturating_sub(n_size), (y + n_size).min(h - 1));
+                for wy in y0..=y1 {
+                    for wx in x0..=x1 {
+                        if let TerrainCell::Class(c) = cur[wy * w + wx] {
+                            match votes.iter_mut().find(|(vc, _)| *vc == c) {
+                                Some((_, n)) => *n += 1,
+                                None => votes.push((c, 1)),
+                            }
+                        }
+                    }
+                }
+                // Most votes; ties to the lowest id.
+                let best = votes
+                    .iter()
+                    .copied()
+                    .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)));
+                if let Some((c, _)) = best {
+                    next[k] = TerrainCell::Class(c);
+                    changed = true;
+                }
+            }
+        }
+        std::mem::swap(&mut cur, &mut next);
+        if !changed {
+            break;
+        }
+    }
+    Ok(Raster {
+        rect: raster.rect,
+        values: cur,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use strider_core::grid::{Cell, CellRect};
+
+    #[test]
+    fn tie_goes_to_lowest_id() {
+        // Row: [C5, ∅, C2]: one vote each.
+        let r = Raster {
+            rect: CellRect::new(Cell::new(0, 0), 3, 1),
+            values: vec![
+                TerrainCell::Class(ClassId(5)),
+                TerrainCell::Eroded,
+                TerrainCell::Class(ClassId(2)),
+            ],
+        };
+        let d = dilate(&r, 1, 1).unwrap();
+        assert_eq!(d.values[1], TerrainCell::Class(ClassId(2)));
+    }
+
+    #[test]
+    fn empty_raster_is_fine() {
+        let r = Raster {
+            rect: CellRect::new(Cell::new(0, 0), 0, 0),
+            values: vec![],
+        };
+        assert!(erode(&r, 2).unwrap().values.is_empty());
+        assert!(dilate(&r, 2, 3).unwrap().values.is_empty());
+    }
+}

@@ -1,0 +1,242 @@
+//! The per-gait cost model (`001` Alg. 5–10) on a synthetic map with three terrain types and a
+//! thin one-cell-wide line of a fourth.
+
+use proptest::prelude::*;
+use strider_core::{Cell, CellRect, GaitId, Rgb8};
+use strider_learn::cost_model::{CostModelParams, GaitCostModel, Insertion};
+use strider_learn::descriptor_field::DescriptorField;
+use strider_map::ElevationMap;
+use strider_map::params::MapParams;
+
+const W: u32 = 60;
+const H: u32 = 40;
+
+/// Terrain of a cell: A (columns 0–19), B (20–39), C (40–59); D is the one-cell-wide line at
+/// row 20 across A.
+fn terrain(c: Cell) -> usize {
+    if c.j == 20 && c.i < 20 {
+        3
+    } else {
+        (c.i / 20) as usize
+    }
+}
+
+fn rect() -> CellRect {
+    CellRect::new(Cell::new(0, 0), W, H)
+}
+
+/// A flat, fully observed map (every cell admissible away from the border) and one-hot 9-bin
+/// histograms by terrain.
+fn world() -> (ElevationMap, DescriptorField) {
+    let params = MapParams {
+        cell_size: 0.05,
+        r_robot: 0.05,
+        ..MapParams::default()
+    };
+    let mut map = ElevationMap::new(params);
+    let mut desc = DescriptorField::empty(rect(), 9);
+    for c in rect().cells() {
+        map.set_cell(c, 0.0, 1e-4, Rgb8([128, 128, 128]));
+        let mut d = [0.0; 9];
+        d[terrain(c)] = 1.0;
+        assert!(desc.set(c, &d));
+    }
+    map.update_passability();
+    (map, desc)
+}
+
+/// True costs per terrain: A easy, B hard, C medium (never sampled), D like A.
+const COST: [f64; 4] = [1.0, 5.0, 3.0, 1.0];
+
+fn feed(model: &mut GaitCostModel, desc: &DescriptorField, cols: std::ops::Range<i32>) {
+    for i in cols.step_by(3) {
+        for j in (4..H as i32 - 4).step_by(3) {
+            let c = Cell::new(i, j);
+            model
+                .insert_measurement(c, COST[terrain(c)], desc)
+                .expect("finite cost");
+        }
+    }
+}
+
+#[test]
+fn unsampled_terrain_is_the_goal_and_planning_costs_follow_the_dilated_classes() {
+    let (map, desc) = world();
+    let mut model = GaitCostModel::new(GaitId(0), 9, CostModelParams::default(), 7).unwrap();
+    // Without a regressor: the bootstrap goal over unmeasured admissible cells (decision 16).
+    let u = model.update(&map, &desc).unwrap();
+    assert!(!model.has_regressor());
+    assert_eq!(u.goals.len(), 1);
+    assert_eq!(u.goals[0].class, None);
+    assert!(!u.goals[0].sites.is_empty());
+    assert!(model.planning_costs(rect()).iter().all(|&c| c == 1.0));
+
+    // Sample A and B (away from the line of D).
+    feed(&mut model, &desc, 4..17);
+    feed(&mut model, &desc, 24..37);
+    assert!(model.has_regressor());
+    // Once B is predicted within 2σ its measurements stop being novel (§4.3.2) while it still
+    // has fewer than m_T learning cells; the class is then informative, so the next pass over
+    // it stores again (Alg. 1 revisits it as a goal).
+    let u = model.update(&map, &desc).unwrap();
+    let tb = model.learning_class(Cell::new(30, 5)).unwrap();
+    assert!(u.goals.iter().any(|g| g.class == Some(tb)));
+    let before = model.learning_set_len();
+    feed(&mut model, &desc, 4..17);
+    feed(&mut model, &desc, 24..37);
+    assert!(model.learning_set_len() > before);
+    let u = model.update(&map, &desc).unwrap();
+
+    let class_of = |c: Cell| model.learning_class(c);
+    let (ta, tb, tc) = (
+        class_of(Cell::new(5, 5)).expect("A classified"),
+        class_of(Cell::new(30, 5)).expect("B classified"),
+        class_of(Cell::new(50, 5)).expect("C classified"),
+    );
+    assert!(ta != tb && tb != tc && ta != tc);
+    // The thin class is eroded away: no cell of the line keeps a class of its own.
+    for i in 3..17 {
+        let t = class_of(Cell::new(i, 20));
+        assert!(t.is_none(), "line cell {i} kept class {t:?}");
+    }
+    assert!(u.classes.iter().all(|c| c.cells > 0));
+
+    // H^GT from A and B; C is the only goal.
+    let h_gt = u.h_gt.expect("A and B have more than m_T learning cells");
+    let info = |t| u.classes.iter().find(|c| c.id == t).unwrap();
+    assert!(info(ta).learning_cells > 10 && info(tb).learning_cells > 10);
+    assert!(info(ta).entropy <= h_gt && info(tb).entropy <= h_gt);
+    assert_eq!(info(ta).information_gain, 0.0);
+    assert_eq!(info(tb).information_gain, 0.0);
+    assert!(info(tc).information_gain > 0.0);
+    assert_eq!(u.goals.len(), 1);
+    assert_eq!(u.goals[0].class, Some(tc));
+    for s in &u.goals[0].sites {
+        assert_eq!(terrain(*s), 2, "site {s:?} not on C");
+        assert!(model.cell_cost(*s).is_none());
+    }
+    // Eroded cells give no information.
+    assert_eq!(model.cell_information_gain(Cell::new(8, 20)), 0.0);
+
+    // Planning costs: the class prediction at the dilated class of every cell.
+    let costs = model.planning_costs(rect());
+    let mut line_filled = 0;
+    for (k, c) in rect().cells().enumerate() {
+        match model.planning_class(c) {
+            Some(t) => {
+                let ci = info(t);
+                assert_eq!(costs[k], ci.cost as f32, "cell {c:?}");
+                line_filled += (c.j == 20 && c.i < 20) as usize;
+            }
+            None => assert_eq!(costs[k], 20.0),
+        }
+    }
+    assert!(line_filled >= 14, "dilation refills the eroded line");
+    assert!(
+        (info(ta).cost - 1.0).abs() < 0.3,
+        "A predicted {}",
+        info(ta).cost
+    );
+    assert!(
+        (info(tb).cost - 5.0).abs() < 0.5,
+        "B predicted {}",
+        info(tb).cost
+    );
+    // The unsampled class keeps the optimistic prior (decision 12).
+    assert!((info(tc).cost - 1.0).abs() < 0.1);
+}
+
+#[test]
+fn the_model_is_deterministic_for_a_seed() {
+    let run = |seed| {
+        let (map, desc) = world();
+        let mut m = GaitCostModel::new(GaitId(1), 9, CostModelParams::default(), seed).unwrap();
+        feed(&mut m, &desc, 1..38);
+        let u = m.update(&map, &desc).unwrap();
+        (u, m.planning_costs(rect()))
+    };
+    assert_eq!(run(3), run(3));
+}
+
+#[test]
+fn bad_costs_are_refused_and_never_stored() {
+    let (_, desc) = world();
+    let mut m = GaitCostModel::new(GaitId(0), 9, CostModelParams::default(), 1).unwrap();
+    for z in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        assert!(m.insert_measurement(Cell::new(3, 3), z, &desc).is_err());
+    }
+    assert_eq!(m.rejected_costs(), 3);
+    assert_eq!(m.learning_set_len(), 0);
+    assert!(m.measured_cells().is_empty());
+    // An empty learning set predicts the prior, clamped to [1, c_max].
+    let (mu, var) = m.predict(&[0.0; 9]);
+    assert_eq!(mu, 1.0);
+    assert_eq!(var, 1.0);
+    // A descriptor field of the wrong dimension is an error.
+    let wrong = DescriptorField::empty(rect(), 5);
+    assert!(m.insert_measurement(Cell::new(3, 3), 2.0, &wrong).is_err());
+}
+
+#[test]
+fn a_novel_measurement_updates_the_cell_and_its_neighbours_by_kalman() {
+    let (_, desc) = world();
+    let mut m = GaitCostModel::new(GaitId(0), 9, CostModelParams::default(), 1).unwrap();
+    let c = Cell::new(10, 10);
+    assert_eq!(
+        m.insert_measurement(c, 2.0, &desc).unwrap(),
+        Insertion::Stored
+    );
+    assert_eq!(
+        m.insert_measurement(c, 4.0, &desc).unwrap(),
+        Insertion::Stored
+    );
+    // Eq. 22 with σ_sense² = 0.1, σ_0² = 1: c = (0.1·2 + 1·4)/1.1, σ² = 0.1/1.1.
+    let k = m.cell_cost(c).unwrap();
+    assert!((k.cost - 4.2 / 1.1).abs() < 1e-12);
+    assert!((k.variance - 0.1 / 1.1).abs() < 1e-12);
+    for n in c.neighbours8() {
+        assert_eq!(m.cell_cost(n).unwrap(), k);
+    }
+    // One learning pair per cell.
+    assert_eq!(m.learning_set_len(), 9);
+    assert_eq!(m.gp().y(0), k.cost);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    #[test]
+    fn learning_set_and_gain_invariants(
+        samples in proptest::collection::vec((0i32..60, 0i32..40, 0.5f64..30.0), 1..60),
+        seed in 0u64..1000,
+    ) {
+        let (map, mut desc) = world();
+        // Leave a few cells undescribed.
+        for i in 0..10 {
+            desc.set(Cell::new(i, 0), &[f64::NAN; 9]);
+        }
+        let mut m = GaitCostModel::new(GaitId(0), 9, CostModelParams::default(), seed).unwrap();
+        for (i, j, z) in samples {
+            m.insert_measurement(Cell::new(i, j), z, &desc).unwrap();
+        }
+        let u = m.update(&map, &desc).unwrap();
+        let described_measured = m
+            .measured_cells()
+            .iter()
+            .filter(|c| desc.get(**c).is_some())
+            .count();
+        prop_assert!(m.learning_set_len() <= described_measured);
+        for c in rect().cells() {
+            if m.learning_class(c).is_none() {
+                prop_assert_eq!(m.cell_information_gain(c), 0.0);
+            }
+        }
+        for c in &u.classes {
+            prop_assert!(c.cost >= 1.0 && c.cost <= 20.0);
+            prop_assert!(c.information_gain >= 0.0 && c.information_gain.is_finite());
+        }
+        for v in m.planning_costs(rect()) {
+            prop_assert!((1.0..=20.0).contains(&v));
+        }
+    }
+}
