@@ -7,6 +7,7 @@
 mod cmd_gp;
 mod cmd_gtsp;
 mod cmd_map;
+mod cmd_run;
 mod cmd_scenario;
 mod render;
 
@@ -29,6 +30,25 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Run an exploration mission (`001` Alg. 1): the robot explores a scenario in the
+    /// simulator, learns per-gait traversal costs as it goes, and a report is written.
+    Run {
+        #[command(flatten)]
+        scenario: ScenarioArg,
+        /// Exploration strategy: gtsp (the paper's), greedy (cheapest goal next) or
+        /// spatial-only (spatial goals, reactive gait).
+        #[arg(long, default_value = "gtsp")]
+        strategy: String,
+        /// Seed of the mission and the simulator's noise.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Mission time limit in simulated seconds (default: the scenario's).
+        #[arg(long)]
+        time_limit: Option<f64>,
+        /// Output directory (created if missing).
+        #[arg(long, short = 'o', default_value = "out/run")]
+        out: PathBuf,
+    },
     /// Built-in and file scenarios: list, render to PNG, export as editable files.
     #[command(subcommand)]
     Scenario(ScenarioCommand),
@@ -193,6 +213,20 @@ enum MapCommand {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Run {
+            scenario,
+            strategy,
+            seed,
+            time_limit,
+            out,
+        } => cmd_run::run(
+            &scenario.scenario,
+            scenario.world_seed,
+            &strategy,
+            seed,
+            time_limit,
+            &out,
+        ),
         Command::Scenario(ScenarioCommand::List) => cmd_scenario::list(),
         Command::Scenario(ScenarioCommand::Render {
             name,

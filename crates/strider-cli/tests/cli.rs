@@ -366,3 +366,43 @@ fn gp_predict_writes_mean_and_variance_and_reports_bad_rows() {
         assert!(e.contains("train.csv") && e.contains(needle), "{e}");
     }
 }
+
+/// A short mission: it runs, writes a report with both gait models, and the same seed gives
+/// the same mission (trajectory, models, termination).
+#[test]
+fn run_writes_a_deterministic_report() {
+    let d = temp_dir("run");
+    let mut reports = Vec::new();
+    for k in 0..2 {
+        let out = d.join(format!("r{k}"));
+        let o = strider(&[
+            "run",
+            "--time-limit",
+            "15",
+            "--seed",
+            "3",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "stderr: {}", stderr(&o));
+        let text = std::fs::read_to_string(out.join("report.json")).unwrap();
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let t = v["exploration_time_s"].as_f64().unwrap();
+        assert!((14.9..=15.2).contains(&t), "{t}");
+        assert_eq!(v["models"].as_array().unwrap().len(), 2);
+        assert!(v["trajectory"].as_array().unwrap().len() > 10);
+        for k in [
+            "mission_wall_s",
+            "wall_time_s",
+            "speedup",
+            "replan_latency_ms",
+            "goal_identification_ms",
+        ] {
+            v.as_object_mut().unwrap().remove(k);
+        }
+        reports.push(v);
+    }
+    assert_eq!(reports[0], reports[1]);
+    let o = strider(&["run", "--strategy", "nope", "--out", d.to_str().unwrap()]);
+    assert!(assert_one_line_error(&o).contains("unknown strategy"));
+}

@@ -1,0 +1,189 @@
+//! `strider run`: an exploration mission (`001` Alg. 1) on a scenario in the simulator.
+//!
+//! This file is the glue between the scenario (world, robot profile, strategy table) and the
+//! mission: it converts the profile and the `001` Tbl. 3 values into [`MissionParams`], puts the
+//! simulator behind the robot interface and writes the report. The mission itself never sees
+//! the scenario's world.
+
+use std::fs;
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use serde_json::json;
+use strider_explore::{GaitSpec, Mission, MissionParams, Rates, Strategy};
+use strider_learn::cost_model::CostModelParams;
+use strider_learn::gp::{GpParams, Kernel, KernelKind};
+use strider_map::rect::WorldRect;
+use strider_scenario::Scenario;
+use strider_sim::Simulator;
+
+use crate::cmd_scenario::load;
+
+/// A number from the scenario's `[strategy]` table, or `default`.
+fn num(sc: &Scenario, key: &str, default: f64) -> f64 {
+    let v = sc.strategy.get(key);
+    v.and_then(|v| v.as_float())
+        .or_else(|| v.and_then(|v| v.as_integer()).map(|i| i as f64))
+        .unwrap_or(default)
+}
+
+/// Mission parameters from a scenario: the robot profile, the map parameters and the
+/// `[strategy]` table (`001` Tbl. 3 names).
+pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<MissionParams> {
+    let gaits: Vec<GaitSpec> = sc
+        .robot
+        .gaits
+        .iter()
+        .map(|g| GaitSpec {
+            name: g.name.clone(),
+            v_max: g.max_speed,
+        })
+        .collect();
+    if gaits.is_empty() {
+        bail!(
+            "scenario {}: robot profile {} has no gait",
+            sc.name,
+            sc.robot.name
+        );
+    }
+    let l = num(sc, "lengthscale", 0.4);
+    let sigma_eps = num(sc, "sigma_eps", 0.5);
+    let sigma_s = num(sc, "sigma_s", 1.0);
+    let gp = GpParams {
+        kernel: Kernel {
+            kind: KernelKind::SquaredExponential,
+            lengthscales: vec![l],
+            signal_variance: sigma_s,
+        },
+        noise_variance: sigma_eps * sigma_eps,
+        // Decision 12: costs are modelled as y − 1 with a zero-mean GP.
+        prior_mean: 1.0,
+    };
+    let mut cm = CostModelParams::new(gp);
+    cm.sigma_sense2 = num(sc, "sigma_sense", cm.sigma_sense2);
+    cm.sigma0_2 = num(sc, "sigma_0_sq", cm.sigma0_2);
+    cm.n_min = num(sc, "n_min", cm.n_min as f64) as usize;
+    cm.m_t = num(sc, "m_t", cm.m_t as f64) as usize;
+    cm.d_s = num(sc, "d_s", cm.d_s);
+    cm.c_max = num(sc, "c_max", cm.c_max);
+    cm.erode_steps = num(sc, "n_erode_steps", cm.erode_steps as f64) as usize;
+    cm.dilate_steps = num(sc, "n_dilate_steps", cm.dilate_steps as f64) as usize;
+    cm.dilate_size = num(sc, "n_dilate_size", cm.dilate_size as f64) as usize;
+    cm.igng.eps_winner = num(sc, "igng_eps_winner", cm.igng.eps_winner);
+    cm.igng.eps_neighbour = num(sc, "igng_eps_neighbour", cm.igng.eps_neighbour);
+    cm.igng.age_mature = num(sc, "igng_age_mature", cm.igng.age_mature as f64) as u32;
+    cm.igng.age_max = num(sc, "igng_age_max", cm.igng.age_max as f64) as u32;
+    cm.igng.batch = num(sc, "igng_batch", cm.igng.batch as f64) as usize;
+    let b = &sc.bounds;
+    Ok(MissionParams {
+        map: sc.map.clone(),
+        gaits,
+        cost_model: cm,
+        window_s: num(sc, "delta_t", 5.0),
+        c_high: num(sc, "c_high", 20.0),
+        c_loss: num(sc, "c_loss", 10.0),
+        dt_sample: num(sc, "dt_sample", 30.0),
+        dt_fallback: num(sc, "dt_fallback", 30.0),
+        bounds: Some(WorldRect::new(b.min, b.max)),
+        time_limit_s: sc.time_limit_s,
+        strategy,
+        rates: Rates::default(),
+        max_sites_per_goal: 16,
+        seed,
+    })
+}
+
+fn median_max(v: &[f64]) -> (f64, f64) {
+    if v.is_empty() {
+        return (0.0, 0.0);
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    (s[s.len() / 2], s[s.len() - 1])
+}
+
+/// Runs `strider run`.
+pub fn run(
+    arg: &str,
+    world_seed: u64,
+    strategy: &str,
+    seed: u64,
+    time_limit: Option<f64>,
+    out: &Path,
+) -> Result<()> {
+    let wall = Instant::now();
+    let Some(strategy) = Strategy::parse(strategy) else {
+        bail!("unknown strategy {strategy:?}; expected gtsp, greedy or spatial-only");
+    };
+    let sc = load(arg, world_seed)?;
+    let mut params = mission_params(&sc, strategy, seed)?;
+    if let Some(t) = time_limit {
+        if !(t.is_finite() && t > 0.0) {
+            bail!("--time-limit must be a positive number of seconds, got {t}");
+        }
+        params.time_limit_s = t;
+    }
+    fs::create_dir_all(out)
+        .with_context(|| format!("{}: cannot create directory", out.display()))?;
+    let mut sim = Simulator::new(&sc, seed)?;
+    let mut mission = Mission::new(params)?;
+    let log = mission.run(&mut sim)?.clone();
+
+    let (rep_med, rep_max) = median_max(&log.replan_ms);
+    let (gid_med, gid_max) = median_max(&log.goal_identification_ms);
+    let models: Vec<_> = mission
+        .models()
+        .iter()
+        .enumerate()
+        .map(|(g, m)| {
+            json!({
+                "gait": sc.robot.gaits[g].name,
+                "regressor": m.has_regressor(),
+                "learning_set": m.learning_set_len(),
+                "measured_cells": m.measured_cells().len(),
+                "classes": m.igng().len(),
+                "cost_samples": log.cost_samples[g],
+                "samplings": log.samplings[g],
+            })
+        })
+        .collect();
+    let wall_s = wall.elapsed().as_secs_f64();
+    let report = json!({
+        "scenario": sc.name,
+        "world_seed": world_seed,
+        "seed": seed,
+        "strategy": strategy.name(),
+        "termination": format!("{:?}", log.termination),
+        "exploration_time_s": log.exploration_time_s,
+        "driven_m": log.driven_m,
+        "observed_cells": mission.map().observed_count(),
+        "models": models,
+        "stuck_events": log.stuck_events,
+        "replans": log.replan_ms.len(),
+        "replan_latency_ms": {"median": rep_med, "max": rep_max},
+        "goal_identification_ms": {"median": gid_med, "max": gid_max},
+        "mission_wall_s": log.wall_s,
+        "speedup": log.exploration_time_s / log.wall_s.max(1e-9),
+        "wall_time_s": wall_s,
+        "trajectory": log.trajectory,
+    });
+    let path = out.join("report.json");
+    fs::write(&path, serde_json::to_string_pretty(&report)?)
+        .with_context(|| format!("{}: cannot write", path.display()))?;
+    println!(
+        "{} ({}): {:?} after {:.0} s simulated, {:.1} m driven, {} replans (median {:.1} ms, max {:.1} ms), {:.0}x real time, {:.1} s wall -> {}",
+        sc.name,
+        strategy.name(),
+        log.termination,
+        log.exploration_time_s,
+        log.driven_m,
+        log.replan_ms.len(),
+        rep_med,
+        rep_max,
+        log.exploration_time_s / log.wall_s.max(1e-9),
+        wall_s,
+        path.display()
+    );
+    Ok(())
+}

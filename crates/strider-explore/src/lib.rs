@@ -1,0 +1,24 @@
+//! # strider-explore
+//!
+//! Exploration missions with active traversal-cost learning (`001` Alg. 1 and 4, decisions
+//! 8–9, 16, 22–25):
+//!
+//! * [`params`]: what a mission needs to know about the robot and the task ([`MissionParams`]).
+//! * [`planner`]: the merged planning grid (Eq. 12–13 with the distance transform of decision
+//!   21), cheapest paths, gait choice (Alg. 4) and the exploration tour from an open GTSP over
+//!   goal sets (Alg. 1 line 17, decision 23), or cheapest-goal-next for the greedy baseline.
+//! * [`mission`]: the loop of Alg. 1 at the module rates of `001` Tbl. 4, the sampling
+//!   manoeuvre (decision 24), the stuck reflex (decision 9) and termination (decision 25).
+//! * [`stats`]: summaries and Mann–Whitney U tests for comparing strategies over trials.
+//!
+//! The crate reaches the robot only through [`strider_core::interface::Robot`]; it does not
+//! depend on the simulator or on the scenario crate (which holds the ground-truth world), so the
+//! learned models cannot read ground truth.
+
+pub mod mission;
+pub mod params;
+pub mod planner;
+pub mod stats;
+
+pub use mission::{Mission, MissionError, MissionLog, Termination};
+pub use params::{GaitSpec, MissionParams, Rates, Strategy};

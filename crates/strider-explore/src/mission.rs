@@ -1,0 +1,607 @@
+//! The exploration mission of `001` Alg. 1 with navigation by Alg. 4.
+//!
+//! The mission drives a [`Robot`] in the robot's own time. Each module runs at its rate of
+//! `001` Tbl. 4 and sees only the latest outputs of the others, as the processes on the robot
+//! do: mapping whenever a scan arrives, cost measurement on every pose (20 Hz), spatial goals at
+//! 0.33 Hz, learning and cost-goal identification at 0.1 Hz, the tour and path at 1 Hz when the
+//! goal set changed or the current goal was reached. The robot is reached only through the
+//! [`Robot`] and [`SensorSink`] interface, so the same loop runs on a simulator or a robot.
+//!
+//! Decisions where the paper is silent:
+//! * a goal counts as reached when the robot is within 1.5 cells of its site or has finished
+//!   the path to it;
+//! * cost samples are taken only while the robot follows a path (a standing robot measures no
+//!   terrain), and the stuck reflex fires only while it is commanded to move;
+//! * goals none of whose sites is reachable on the current planning grid are not pursued; the
+//!   exploration ends (decision 25) when no reachable goal remains after the spatial and
+//!   learning modules have both run, or at the time limit.
+
+use crate::params::{MissionParams, Strategy};
+use crate::planner::{
+    CostMode, GoalKey, PlanningView, TourGoal, farthest_point_subsample, plan_tour, waypoints,
+};
+use std::time::Instant;
+use strider_core::interface::{MotionState, Robot, SensorSink};
+use strider_core::{Cell, GaitId, Point2, PointCloud, PoseStamped};
+use strider_learn::cost_model::{CostGoal, GaitCostModel};
+use strider_learn::descriptor_field::DescriptorField;
+use strider_learn::signals::{FallbackTimer, InverseVelocityCost, InverseVelocityParams};
+use strider_map::descriptors::{TA_BINS, color_histograms};
+use strider_map::reachability::Reachability;
+use strider_map::{ElevationMap, SpatialGoal, cluster_information, information_gain};
+use strider_plan::grid::Dijkstra;
+
+/// Why a mission stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Termination {
+    /// Every model and the spatial explorer report no (reachable) goal.
+    GoalsCleared,
+    /// Goals remain but none has been reachable for a whole learning period.
+    NoReachableGoals,
+    /// The time limit was reached first.
+    TimeLimit,
+}
+
+/// Errors of a mission.
+#[derive(Debug, thiserror::Error)]
+pub enum MissionError {
+    /// The robot failed.
+    #[error("robot: {0}")]
+    Robot(String),
+    /// Invalid parameters.
+    #[error("mission parameters: {0}")]
+    Params(String),
+}
+
+/// One logged trajectory sample.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct TrajectorySample {
+    /// Robot time, s.
+    pub t: f64,
+    /// Position, m.
+    pub x: f64,
+    /// Position, m.
+    pub y: f64,
+    /// Gait in use.
+    pub gait: u8,
+}
+
+/// What a mission did.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct MissionLog {
+    /// Why it stopped.
+    pub termination: Termination,
+    /// Robot time from start to termination, s.
+    pub exploration_time_s: f64,
+    /// Distance driven, m.
+    pub driven_m: f64,
+    /// Trajectory at 2 Hz.
+    pub trajectory: Vec<TrajectorySample>,
+    /// Wall-clock latency of each replan (planning grid, all-pairs, GTSP, path), ms.
+    pub replan_ms: Vec<f64>,
+    /// Wall-clock latency of each goal identification (spatial or learning), ms.
+    pub goal_identification_ms: Vec<f64>,
+    /// Cost goals reached and sampled, per gait.
+    pub samplings: Vec<usize>,
+    /// Cost samples stored per gait.
+    pub cost_samples: Vec<usize>,
+    /// Stuck-reflex activations.
+    pub stuck_events: usize,
+    /// Wall time of the mission, s.
+    pub wall_s: f64,
+}
+
+/// The sampling manoeuvre in progress (decision 24).
+#[derive(Clone, Copy, Debug)]
+struct Sampling {
+    gait: GaitId,
+    until: f64,
+}
+
+/// The exploration mission's state: the map, the per-gait models and the navigation state.
+pub struct Mission {
+    params: MissionParams,
+    map: ElevationMap,
+    models: Vec<GaitCostModel>,
+    signal: InverseVelocityCost,
+    fallback: FallbackTimer,
+    desc: DescriptorField,
+    spatial: Vec<SpatialGoal>,
+    cost_goals: Vec<(u8, CostGoal)>,
+    dij: Dijkstra,
+    current: Option<(GoalKey, Cell)>,
+    goal_keys: Vec<GoalKey>,
+    sampling: Option<Sampling>,
+    gait: GaitId,
+    pose: Option<PoseStamped>,
+    moving: bool,
+    learned_once: bool,
+    spatial_once: bool,
+    log: MissionLog,
+    last_pos: Option<Point2>,
+    poses_seen: u64,
+    unreachable_since: Option<f64>,
+}
+
+impl Mission {
+    /// A mission with an empty map and untrained models.
+    pub fn new(params: MissionParams) -> Result<Self, MissionError> {
+        if params.gaits.is_empty() || params.gaits.len() > u8::MAX as usize {
+            return Err(MissionError::Params("the robot needs 1–255 gaits".into()));
+        }
+        let v_max = params.v_max();
+        let sig = InverseVelocityParams::new(
+            params.window_s,
+            vec![v_max; params.gaits.len()],
+            params.c_high,
+            params.cost_model.c_max,
+        );
+        let signal =
+            InverseVelocityCost::new(sig).map_err(|e| MissionError::Params(e.to_string()))?;
+        let fallback = FallbackTimer::new(params.dt_fallback)
+            .map_err(|e| MissionError::Params(e.to_string()))?;
+        let models = (0..params.gaits.len())
+            .map(|g| {
+                GaitCostModel::new(
+                    GaitId(g as u8),
+                    TA_BINS,
+                    params.cost_model.clone(),
+                    params.seed,
+                )
+                .map_err(|e| MissionError::Params(e.to_string()))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let n = params.gaits.len();
+        // Start with the fastest gait.
+        let fastest = (0..n)
+            .max_by(|&a, &b| {
+                params.gaits[a]
+                    .v_max
+                    .total_cmp(&params.gaits[b].v_max)
+                    .then(b.cmp(&a))
+            })
+            .unwrap_or(0);
+        // Decision 5 allows a stride lattice for Eq. 11: candidates every ~0.2 m, each standing
+        // for stride² cells in Alg. 3's minimum cluster size.
+        let mut map_params = params.map.clone();
+        let stride = ((0.2 / map_params.cell_size).round() as u32).max(1);
+        if map_params.info_gain_stride <= 1 && stride > 1 {
+            map_params.info_gain_stride = stride;
+            let s2 = (stride * stride) as usize;
+            map_params.c_min_cells = (map_params.c_min_cells.div_ceil(s2)).max(1);
+        }
+        Ok(Self {
+            map: ElevationMap::new(map_params),
+            models,
+            signal,
+            fallback,
+            desc: DescriptorField::empty(
+                strider_core::CellRect::new(Cell::new(0, 0), 0, 0),
+                TA_BINS,
+            ),
+            spatial: Vec::new(),
+            cost_goals: Vec::new(),
+            dij: Dijkstra::new(),
+            current: None,
+            goal_keys: Vec::new(),
+            sampling: None,
+            gait: GaitId(fastest as u8),
+            pose: None,
+            moving: false,
+            learned_once: false,
+            spatial_once: false,
+            log: MissionLog {
+                termination: Termination::TimeLimit,
+                exploration_time_s: 0.0,
+                driven_m: 0.0,
+                trajectory: Vec::new(),
+                replan_ms: Vec::new(),
+                goal_identification_ms: Vec::new(),
+                samplings: vec![0; n],
+                cost_samples: vec![0; n],
+                stuck_events: 0,
+                wall_s: 0.0,
+            },
+            last_pos: None,
+            poses_seen: 0,
+            unreachable_since: None,
+            params,
+        })
+    }
+
+    /// The map built so far.
+    pub fn map(&self) -> &ElevationMap {
+        &self.map
+    }
+
+    /// The per-gait cost models.
+    pub fn models(&self) -> &[GaitCostModel] {
+        &self.models
+    }
+
+    /// The latest descriptors.
+    pub fn descriptors(&self) -> &DescriptorField {
+        &self.desc
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &MissionParams {
+        &self.params
+    }
+
+    /// The log so far.
+    pub fn log(&self) -> &MissionLog {
+        &self.log
+    }
+
+    fn robot_cell(&self) -> Option<Cell> {
+        let p = self.pose?;
+        self.map.cell_at(p.position.x, p.position.y)
+    }
+
+    /// The cell plans and reachability start from: the robot's cell when it is observed and
+    /// admissible, else the nearest such cell within 3·r_robot (a forward-looking sensor never
+    /// sees the ground under the robot at the start).
+    fn anchor_cell(&self) -> Option<Cell> {
+        let here = self.robot_cell()?;
+        let ok = |c: Cell| self.map.is_observed(c) && self.map.is_admissible(c);
+        if ok(here) {
+            return Some(here);
+        }
+        let r = 3.0 * self.map.params().r_robot;
+        strider_core::grid::disc_offsets(r, self.map.cell_size())
+            .into_iter()
+            .map(|(di, dj)| Cell::new(here.i + di, here.j + dj))
+            .find(|&c| ok(c))
+    }
+
+    /// Runs Alg. 1 until every goal is cleared or the time limit.
+    pub fn run<R: Robot>(&mut self, robot: &mut R) -> Result<&MissionLog, MissionError> {
+        let wall = Instant::now();
+        let rates = self.params.rates;
+        let dt = 1.0 / rates.control_hz;
+        let t0 = robot.now();
+        let (mut next_spatial, mut next_learn, mut next_tour) = (t0, t0, t0);
+        robot.set_gait(self.gait);
+        let mut state = MotionState {
+            idle: true,
+            blocked: false,
+        };
+        loop {
+            let t = robot.now();
+            if t - t0 >= self.params.time_limit_s {
+                self.log.termination = Termination::TimeLimit;
+                break;
+            }
+            self.moving = !state.idle;
+            state = robot
+                .advance(dt, self)
+                .map_err(|e| MissionError::Robot(e.to_string()))?;
+            let t = robot.now();
+            if state.idle {
+                self.signal.reset();
+            }
+            // Stuck reflex (decision 9), only while commanded to move.
+            let stuck = !state.idle && self.signal.is_stuck();
+            let was = self.fallback.is_active(t);
+            if self.fallback.update(t, stuck) && !was {
+                self.log.stuck_events += 1;
+            }
+            if t >= next_spatial {
+                self.update_spatial();
+                next_spatial = t + 1.0 / rates.spatial_hz;
+            }
+            if t >= next_learn {
+                self.update_learning();
+                next_learn = t + 1.0 / rates.learning_hz;
+            }
+            if t >= next_tour || state.idle || state.blocked {
+                if let Some(end) = self.decide(robot, t, state) {
+                    self.log.termination = end;
+                    break;
+                }
+                next_tour = t + 1.0 / rates.tour_hz;
+                state.idle = false;
+            }
+            let g = self.choose_gait(t);
+            if g != self.gait {
+                self.gait = g;
+                robot.set_gait(g);
+            }
+        }
+        robot.follow(&[]);
+        self.log.exploration_time_s = robot.now() - t0;
+        self.log.wall_s = wall.elapsed().as_secs_f64();
+        Ok(&self.log)
+    }
+
+    /// Alg. 2 lines 3–5: passability, information gain, spatial goals (Alg. 3).
+    fn update_spatial(&mut self) {
+        let w = Instant::now();
+        self.map.update_passability();
+        self.spatial.clear();
+        if let Some(c) = self.anchor_cell() {
+            let reach = Reachability::compute(&self.map, c);
+            let bounds = self.params.bounds;
+            let gain = information_gain(&self.map, &reach, bounds.as_ref());
+            self.spatial = cluster_information(&self.map, &gain, &reach, bounds.as_ref());
+            self.spatial_once = true;
+        }
+        self.log
+            .goal_identification_ms
+            .push(w.elapsed().as_secs_f64() * 1e3);
+    }
+
+    /// Alg. 6 for every gait: descriptors, then each model's update.
+    fn update_learning(&mut self) {
+        let w = Instant::now();
+        self.map.update_passability();
+        let Some(rect) = self.map.known_bounds() else {
+            return;
+        };
+        let raster = color_histograms(&self.map, rect, self.map.params().r_hist);
+        self.desc = DescriptorField::from_raster(&raster);
+        self.cost_goals.clear();
+        for (g, m) in self.models.iter_mut().enumerate() {
+            if let Ok(u) = m.update(&self.map, &self.desc) {
+                for goal in u.goals {
+                    self.cost_goals.push((g as u8, goal));
+                }
+            }
+        }
+        self.learned_once = true;
+        self.log
+            .goal_identification_ms
+            .push(w.elapsed().as_secs_f64() * 1e3);
+    }
+
+    /// The goal set pursued by the strategy.
+    fn goals(&self) -> Vec<TourGoal> {
+        let mut goals: Vec<TourGoal> = self
+            .spatial
+            .iter()
+            .map(|s| TourGoal {
+                key: GoalKey::Spatial(s.cell),
+                sites: vec![s.cell],
+            })
+            .collect();
+        if self.params.strategy != Strategy::SpatialOnly {
+            for (g, goal) in &self.cost_goals {
+                goals.push(TourGoal {
+                    key: GoalKey::Cost {
+                        gait: *g,
+                        class: goal.class.map_or(u32::MAX, |c| c.0),
+                    },
+                    sites: farthest_point_subsample(&goal.sites, self.params.max_sites_per_goal),
+                });
+            }
+        }
+        goals
+    }
+
+    /// Alg. 1 lines 11–25. Returns true when the exploration is finished.
+    fn decide<R: Robot>(
+        &mut self,
+        robot: &mut R,
+        t: f64,
+        state: MotionState,
+    ) -> Option<Termination> {
+        let here = self.anchor_cell()?;
+        // A sampling manoeuvre runs to its end.
+        if let Some(s) = self.sampling {
+            if t < s.until && !state.idle && !state.blocked {
+                return None;
+            }
+            self.sampling = None;
+            self.current = None;
+        }
+        let reached = self
+            .current
+            .is_some_and(|(_, site)| here.dist_cells(site) <= 1.5 || state.idle);
+        if reached && let Some((GoalKey::Cost { gait, .. }, _)) = self.current {
+            // Lines 12–15: sample the reached cost goal with its gait.
+            self.log.samplings[gait as usize] += 1;
+            self.start_sampling(robot, t, GaitId(gait));
+            return None;
+        }
+        let goals = self.goals();
+        let mut keys: Vec<GoalKey> = goals.iter().map(|g| g.key).collect();
+        keys.sort_unstable();
+        let changed = keys != self.goal_keys;
+        if goals.is_empty() && self.learned_once && self.spatial_once {
+            // Alg. 1 lines 21–24: no spatial goal and every model has a regressor and no goal.
+            let models_done = self.params.strategy == Strategy::SpatialOnly
+                || self.models.iter().all(|m| m.has_regressor());
+            if models_done {
+                return Some(Termination::GoalsCleared);
+            }
+        }
+        if !(changed || reached || self.current.is_none() || state.blocked) {
+            return None;
+        }
+        self.goal_keys = keys;
+        let w = Instant::now();
+        let mode = if self.params.strategy == Strategy::SpatialOnly {
+            CostMode::Flat
+        } else {
+            CostMode::Learned
+        };
+        self.map.update_passability();
+        let view = PlanningView::build(&self.map, &self.models, mode, self.params.c_loss);
+        let tour = view.as_ref().and_then(|v| {
+            plan_tour(
+                v,
+                here,
+                &goals,
+                self.params.strategy == Strategy::Greedy,
+                self.params.seed,
+            )
+        });
+        let mut path_found = false;
+        if let (Some(v), Some(tour)) = (&view, &tour) {
+            for &(key, site) in &tour.order {
+                if let Some(path) = v.path(&mut self.dij, here, site) {
+                    robot.follow(&waypoints(&path, self.map.cell_size()));
+                    self.current = Some((key, site));
+                    path_found = true;
+                    break;
+                }
+            }
+        }
+        self.log.replan_ms.push(w.elapsed().as_secs_f64() * 1e3);
+        if !path_found {
+            self.current = None;
+            robot.follow(&[]);
+            // Nothing reachable: give the map and the models one learning period to change
+            // that, then stop.
+            let since = *self.unreachable_since.get_or_insert(t);
+            if self.learned_once
+                && self.spatial_once
+                && t - since > 1.0 / self.params.rates.learning_hz + 1.0
+            {
+                return Some(Termination::NoReachableGoals);
+            }
+        } else {
+            self.unreachable_since = None;
+        }
+        None
+    }
+
+    /// Decision 24: enforce `gait` and walk straight ahead (or the most open direction when
+    /// the heading is blocked) over admissible cells for Δt_sample.
+    fn start_sampling<R: Robot>(&mut self, robot: &mut R, t: f64, gait: GaitId) {
+        let Some(p) = self.pose else { return };
+        let d = self.map.cell_size();
+        let v = self.params.gaits[gait.0 as usize].v_max;
+        let len = (v * self.params.dt_sample).max(2.0 * d);
+        let start = Point2::new(p.position.x, p.position.y);
+        let mut best: Option<(usize, Vec<Point2>)> = None;
+        for k in [0.0f64, 1.0, -1.0, 2.0, -2.0, 3.0, -3.0, 4.0] {
+            let yaw = p.yaw + k * std::f64::consts::FRAC_PI_4;
+            let (dx, dy) = (yaw.cos(), yaw.sin());
+            let mut pts = vec![start];
+            let steps = (len / (0.5 * d)).ceil() as usize;
+            for s in 1..=steps {
+                let q = Point2::new(
+                    start.x + dx * s as f64 * 0.5 * d,
+                    start.y + dy * s as f64 * 0.5 * d,
+                );
+                if !self.map.is_admissible_at(q.x, q.y) {
+                    break;
+                }
+                pts.push(q);
+            }
+            let n = pts.len();
+            if n > steps / 2 {
+                best = Some((n, pts));
+                break;
+            }
+            if best.as_ref().is_none_or(|(bn, _)| n > *bn) {
+                best = Some((n, pts));
+            }
+        }
+        let Some((_, pts)) = best else { return };
+        robot.follow(&pts);
+        self.sampling = Some(Sampling {
+            gait,
+            until: t + self.params.dt_sample,
+        });
+    }
+
+    /// Alg. 4: the enforced gait, the stuck reflex's rough gait, or the best gait at the robot.
+    fn choose_gait(&mut self, t: f64) -> GaitId {
+        if let Some(s) = self.sampling {
+            return s.gait;
+        }
+        if self.fallback.is_active(t) {
+            return self.params.rough_gait();
+        }
+        if self.params.strategy == Strategy::SpatialOnly {
+            // Reactive: the fastest gait unless stuck.
+            return self.fastest();
+        }
+        let Some(here) = self.anchor_cell() else {
+            return self.gait;
+        };
+        let view = self.gait_view(here);
+        view.unwrap_or(self.gait)
+    }
+
+    fn fastest(&self) -> GaitId {
+        let g = &self.params.gaits;
+        GaitId(
+            (0..g.len())
+                .max_by(|&a, &b| g[a].v_max.total_cmp(&g[b].v_max).then(b.cmp(&a)))
+                .unwrap_or(0) as u8,
+        )
+    }
+
+    /// Argmin over gaits of the footprint max of ĉ_{C^g} around `here` (Alg. 4 line 6), read
+    /// straight from the models' planning costs.
+    fn gait_view(&self, here: Cell) -> Option<GaitId> {
+        let r = self.map.params().r_robot;
+        let d = self.map.cell_size();
+        let reach = (r / d).ceil() as i32;
+        let rect = strider_core::CellRect::new(
+            Cell::new(here.i - reach, here.j - reach),
+            (2 * reach + 1) as u32,
+            (2 * reach + 1) as u32,
+        );
+        let disc = strider_core::grid::disc_offsets(r, d);
+        let mut best: Option<(f32, usize)> = None;
+        for (g, m) in self.models.iter().enumerate() {
+            let costs = m.planning_costs(rect);
+            let mut worst = 0.0f32;
+            for &(di, dj) in &disc {
+                let c = Cell::new(here.i + di, here.j + dj);
+                if let Some(k) = rect.index(c)
+                    && self.map.is_observed(c)
+                {
+                    worst = worst.max(costs[k]);
+                }
+            }
+            if best.is_none_or(|(b, _)| worst < b) {
+                best = Some((worst, g));
+            }
+        }
+        best.map(|(_, g)| GaitId(g as u8))
+    }
+}
+
+impl SensorSink for Mission {
+    fn on_pose(&mut self, pose: &PoseStamped) {
+        if !(pose.position.x.is_finite() && pose.position.y.is_finite()) {
+            return;
+        }
+        let p = Point2::new(pose.position.x, pose.position.y);
+        if let Some(q) = self.last_pos {
+            self.log.driven_m += ((p.x - q.x).powi(2) + (p.y - q.y).powi(2)).sqrt();
+        }
+        self.last_pos = Some(p);
+        self.pose = Some(*pose);
+        self.poses_seen += 1;
+        if self.poses_seen % 10 == 1 {
+            self.log.trajectory.push(TrajectorySample {
+                t: pose.stamp,
+                x: p.x,
+                y: p.y,
+                gait: pose.gait.0,
+            });
+        }
+        if !self.moving {
+            return;
+        }
+        if let Some(s) = self.signal.push(pose, pose.gait)
+            && let Some(cell) = self.map.cell_at(s.position.x, s.position.y)
+            && let Some(m) = self.models.get_mut(s.gait.0 as usize)
+            && let Ok(ins) = m.insert_measurement(cell, s.cost, &self.desc)
+            && ins == strider_learn::cost_model::Insertion::Stored
+        {
+            self.log.cost_samples[s.gait.0 as usize] += 1;
+        }
+    }
+
+    fn on_cloud(&mut self, cloud: &PointCloud) {
+        self.map.integrate(cloud);
+    }
+}

@@ -1,0 +1,127 @@
+//! Mission parameters: what the exploration stack needs to know about the robot and the task.
+//!
+//! Nothing here describes the world: the gaits, footprint and sensor-related map parameters come
+//! from the robot's profile, the bounds and time limit from the task. A scenario (or a real
+//! robot's configuration) is converted into [`MissionParams`] by the caller.
+
+use serde::{Deserialize, Serialize};
+use strider_core::GaitId;
+use strider_learn::cost_model::CostModelParams;
+use strider_map::params::MapParams;
+use strider_map::rect::WorldRect;
+
+/// One gait of the robot.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GaitSpec {
+    /// Gait name (e.g. `fast`, `tall`).
+    pub name: String,
+    /// Its maximum speed on ideal terrain, m/s.
+    pub v_max: f64,
+}
+
+/// Exploration strategy (`001` §5 and its baselines).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Strategy {
+    /// The paper's: spatial and cost-model goals ordered by an open GTSP tour (Alg. 1).
+    Gtsp,
+    /// The same goals, cheapest goal next (myopic baseline).
+    Greedy,
+    /// Spatial goals only, reactive gait, learns incidentally (`001` §5.1.2 baseline).
+    SpatialOnly,
+}
+
+impl Strategy {
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Strategy::Gtsp => "gtsp",
+            Strategy::Greedy => "greedy",
+            Strategy::SpatialOnly => "spatial-only",
+        }
+    }
+
+    /// Parses a command-line name.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "gtsp" => Some(Strategy::Gtsp),
+            "greedy" => Some(Strategy::Greedy),
+            "spatial-only" => Some(Strategy::SpatialOnly),
+            _ => None,
+        }
+    }
+}
+
+/// Module rates of `001` Tbl. 4, in Hz. Mapping follows the sensor's own rate.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Rates {
+    /// Spatial goal identification (Alg. 2–3), 0.33 Hz.
+    pub spatial_hz: f64,
+    /// Learning and cost-goal identification (Alg. 5–10), 0.1 Hz.
+    pub learning_hz: f64,
+    /// Tour and path planning when the goals changed, 1 Hz.
+    pub tour_hz: f64,
+    /// Control tick: gait choice and motion, 20 Hz.
+    pub control_hz: f64,
+}
+
+impl Default for Rates {
+    fn default() -> Self {
+        Self {
+            spatial_hz: 0.33,
+            learning_hz: 0.1,
+            tour_hz: 1.0,
+            control_hz: 20.0,
+        }
+    }
+}
+
+/// Everything an exploration mission needs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MissionParams {
+    /// Map parameters (cell size, r_robot, ρ_obstacle, r_sensor, r_hist, …).
+    pub map: MapParams,
+    /// The robot's gaits, indexed by [`GaitId`].
+    pub gaits: Vec<GaitSpec>,
+    /// Parameters shared by the per-gait cost models.
+    pub cost_model: CostModelParams,
+    /// Δt, the cost measurement window, s (`001` Tbl. 3).
+    pub window_s: f64,
+    /// c_high of the tanh bound (Eq. 20).
+    pub c_high: f64,
+    /// c_loss of the distance transform (decision 21).
+    pub c_loss: f64,
+    /// Δt_sample, duration of the sampling manoeuvre, s.
+    pub dt_sample: f64,
+    /// Δt_fallback, duration of the stuck reflex, s.
+    pub dt_fallback: f64,
+    /// Exploration bounds; goals outside are ignored.
+    pub bounds: Option<WorldRect>,
+    /// Mission time limit (robot time), s.
+    pub time_limit_s: f64,
+    /// Strategy.
+    pub strategy: Strategy,
+    /// Module rates.
+    pub rates: Rates,
+    /// Sampling sites kept per cost goal in the GTSP instance (decision 23).
+    pub max_sites_per_goal: usize,
+    /// Seed of every random choice of the mission (IGNG batches, GTSP).
+    pub seed: u64,
+}
+
+impl MissionParams {
+    /// The rough-terrain gait used by the stuck reflex: the slowest one.
+    pub fn rough_gait(&self) -> GaitId {
+        let mut best = 0usize;
+        for (g, s) in self.gaits.iter().enumerate() {
+            if s.v_max < self.gaits[best].v_max {
+                best = g;
+            }
+        }
+        GaitId(best as u8)
+    }
+
+    /// v_max over all gaits (Eq. 20 scales costs by it).
+    pub fn v_max(&self) -> f64 {
+        self.gaits.iter().map(|g| g.v_max).fold(0.0, f64::max)
+    }
+}

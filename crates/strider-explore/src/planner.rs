@@ -1,0 +1,268 @@
+//! Planning on the robot's own map: the merged planning grid (`001` Eq. 12–13, decision 21),
+//! cheapest paths, gait choice (Alg. 4) and the exploration tour over goal sets (Alg. 1 line 17,
+//! decision 23).
+
+use strider_core::{Cell, CellRect, GaitId, Point2};
+use strider_learn::cost_model::GaitCostModel;
+use strider_map::ElevationMap;
+use strider_map::passability::Passability;
+use strider_plan::grid::{CostGrid, Dijkstra, all_pairs, transform};
+use strider_plan::gtsp::{self, Mode, SolverParams};
+use strider_plan::tsplib::{CostMatrix, Instance};
+
+/// Which costs the planner uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CostMode {
+    /// Eq. 5: every passable cell costs 1 (path length).
+    Flat,
+    /// The learned per-gait planning costs (Alg. 10), best gait per cell (Eq. 13).
+    Learned,
+}
+
+/// The grids a plan is made on, over the map's known rectangle.
+#[derive(Clone, Debug)]
+pub struct PlanningView {
+    /// Per-gait cell costs ĉ_{C^g}(ν) (impassable cells +∞), before any transform.
+    pub per_gait: Vec<CostGrid>,
+    /// Best gait per cell (Eq. 13).
+    pub best_gait: Vec<Option<u16>>,
+    /// The planning grid: best-gait cost, distance transform with c_loss, footprint max (Eq. 12),
+    /// +∞ where the robot's centre may not be (inadmissible or unknown cells).
+    pub grid: CostGrid,
+}
+
+impl PlanningView {
+    /// Builds the view from the map and the gait models. `None` while the map is empty.
+    pub fn build(
+        map: &ElevationMap,
+        models: &[GaitCostModel],
+        mode: CostMode,
+        c_loss: f64,
+    ) -> Option<Self> {
+        let rect = map.known_bounds()?;
+        let d = map.cell_size();
+        let pass = map.passability_raster(rect);
+        let adm = map.admissible_raster(rect);
+        let per_gait: Vec<CostGrid> = models
+            .iter()
+            .map(|m| {
+                let mut c = match mode {
+                    CostMode::Flat => vec![1.0f32; rect.len()],
+                    CostMode::Learned => m.planning_costs(rect),
+                };
+                for (v, p) in c.iter_mut().zip(&pass) {
+                    match p {
+                        Passability::Impassable => *v = f32::INFINITY,
+                        // Unknown cells do not raise their neighbours' footprint cost; the
+                        // centre mask below keeps the robot off them.
+                        Passability::Unknown => *v = 1.0,
+                        Passability::Passable => *v = v.max(1.0),
+                    }
+                }
+                CostGrid::new(rect, d, c).expect("costs are ≥ 1 or +∞")
+            })
+            .collect();
+        let best = transform::best_gait(&per_gait).ok()?;
+        let dt = transform::distance_transform(&best.cost, c_loss).ok()?;
+        let fp = transform::footprint_max(&dt, map.params().r_robot).ok()?;
+        let mut costs = fp.into_costs();
+        for (k, v) in costs.iter_mut().enumerate() {
+            if !adm[k] || pass[k] == Passability::Unknown {
+                *v = f32::INFINITY;
+            }
+        }
+        let grid = CostGrid::new(rect, d, costs).ok()?;
+        Some(Self {
+            per_gait,
+            best_gait: best.gait,
+            grid,
+        })
+    }
+
+    /// The rectangle planned over.
+    pub fn rect(&self) -> CellRect {
+        self.grid.rect()
+    }
+
+    /// Alg. 4 line 6: argmin_g max_{ν' ∈ δ(r_robot, ν)} ĉ_{C^g}(ν'); `None` off the view.
+    pub fn choose_gait(&self, cell: Cell, r_robot: f64) -> Option<GaitId> {
+        transform::choose_gait(&self.per_gait, cell, r_robot).map(|(g, _)| GaitId(g as u8))
+    }
+
+    /// The cheapest path from `from` to `to` on the planning grid, as cell centres; `None` if
+    /// unreachable.
+    pub fn path(&self, dij: &mut Dijkstra, from: Cell, to: Cell) -> Option<Vec<Cell>> {
+        let cost = dij.astar(&self.grid, from, to).ok()?;
+        if !cost.is_finite() {
+            return None;
+        }
+        dij.path_to(to)
+    }
+}
+
+/// A goal as the tour sees it: a set of alternative sites, any one of which clears it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TourGoal {
+    /// Caller's identifier of the goal.
+    pub key: GoalKey,
+    /// Its sites.
+    pub sites: Vec<Cell>,
+}
+
+/// Identity of a goal across replans (decision 23: replan when the goal set changes by
+/// identity).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum GoalKey {
+    /// A spatial goal Γ_P, by its representative cell.
+    Spatial(Cell),
+    /// A cost-model goal γ_C(T) of gait `gait`, by class (`u32::MAX` for the bootstrap goal).
+    Cost {
+        /// Gait index.
+        gait: u8,
+        /// Class id.
+        class: u32,
+    },
+}
+
+/// The result of ordering goals.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tour {
+    /// Goals in visiting order with the chosen site of each.
+    pub order: Vec<(GoalKey, Cell)>,
+    /// Planning cost of the open tour from the robot.
+    pub cost: f64,
+}
+
+/// Farthest-point subsample of `sites` down to `k` (decision 23), deterministic: start from
+/// the first site, repeatedly add the site farthest from those chosen (ties: lowest index).
+pub fn farthest_point_subsample(sites: &[Cell], k: usize) -> Vec<Cell> {
+    if sites.len() <= k {
+        return sites.to_vec();
+    }
+    let mut chosen = vec![sites[0]];
+    let mut dmin: Vec<f64> = sites.iter().map(|s| s.dist_cells(sites[0])).collect();
+    while chosen.len() < k {
+        let (mut bi, mut bd) = (0, -1.0);
+        for (i, &d) in dmin.iter().enumerate() {
+            if d > bd {
+                (bi, bd) = (i, d);
+            }
+        }
+        let c = sites[bi];
+        chosen.push(c);
+        for (i, s) in sites.iter().enumerate() {
+            dmin[i] = dmin[i].min(s.dist_cells(c));
+        }
+    }
+    chosen
+}
+
+/// Orders `goals` from the robot's cell: an open GTSP over the robot vertex and every site
+/// (decision 23), or the cheapest goal next when `greedy`. Goals none of whose sites is
+/// reachable are left out. Deterministic for a seed (iteration limits, no wall-clock limit
+/// decides the result unless the instance is huge).
+pub fn plan_tour(
+    view: &PlanningView,
+    robot: Cell,
+    goals: &[TourGoal],
+    greedy: bool,
+    seed: u64,
+) -> Option<Tour> {
+    // Vertex 0 = robot; then every (goal, site).
+    let mut sites = vec![robot];
+    let mut owner = vec![usize::MAX];
+    for (g, goal) in goals.iter().enumerate() {
+        for &s in &goal.sites {
+            sites.push(s);
+            owner.push(g);
+        }
+    }
+    let costs = all_pairs(&view.grid, &sites);
+    // Keep the sites reachable from the robot.
+    let reachable: Vec<usize> = (0..sites.len())
+        .filter(|&v| v == 0 || costs.get(0, v).is_finite())
+        .collect();
+    let mut sets: Vec<Vec<usize>> = Vec::new();
+    let mut set_goal: Vec<usize> = Vec::new();
+    for (g, _) in goals.iter().enumerate() {
+        let vs: Vec<usize> = reachable
+            .iter()
+            .enumerate()
+            .filter(|&(_, &v)| owner[v] == g)
+            .map(|(i, _)| i)
+            .collect();
+        if !vs.is_empty() {
+            sets.push(vs);
+            set_goal.push(g);
+        }
+    }
+    if sets.is_empty() {
+        return None;
+    }
+    let n = reachable.len();
+    let cost_of = |a: usize, b: usize| costs.get(reachable[a], reachable[b]);
+    if greedy {
+        // Cheapest goal next: the cheapest site of any goal from the robot.
+        let mut best: Option<(f64, usize, usize)> = None;
+        for (s, vs) in sets.iter().enumerate() {
+            for &v in vs {
+                let c = cost_of(0, v);
+                if best.is_none_or(|(bc, _, _)| c < bc) {
+                    best = Some((c, s, v));
+                }
+            }
+        }
+        let (c, s, v) = best?;
+        return Some(Tour {
+            order: vec![(goals[set_goal[s]].key, sites[reachable[v]])],
+            cost: c,
+        });
+    }
+    // Integer costs in millimetre-cost units; unreachable pairs get a large finite penalty.
+    let finite_max = (0..n)
+        .flat_map(|a| (0..n).map(move |b| (a, b)))
+        .map(|(a, b)| cost_of(a, b))
+        .filter(|c| c.is_finite())
+        .fold(0.0, f64::max);
+    let big = ((finite_max * 1000.0).ceil() as i64 + 1) * n as i64;
+    let dist = CostMatrix::from_fn(n, |a, b| {
+        if a == b || b == 0 {
+            0 // the diagonal, and the open tour's free return to the robot
+        } else {
+            let c = cost_of(a, b);
+            if c.is_finite() {
+                (c * 1000.0).round() as i64
+            } else {
+                big
+            }
+        }
+    });
+    let mut all_sets = vec![vec![0]];
+    all_sets.extend(sets.iter().cloned());
+    let inst = Instance::new("exploration", all_sets, dist).ok()?;
+    let params = SolverParams {
+        mode: Mode::Fast,
+        time_limit_s: 5.0,
+        seed,
+        open: Some(0),
+        max_trials: Some(2),
+        max_iterations: Some(2000),
+        stall_iterations: Some(300),
+        ..SolverParams::default()
+    };
+    let sol = gtsp::solve(&inst, &params).ok()?;
+    let mut order = Vec::new();
+    for &v in sol.tour.iter().skip_while(|&&v| v != 0).skip(1) {
+        let g = owner[reachable[v]];
+        order.push((goals[g].key, sites[reachable[v]]));
+    }
+    Some(Tour {
+        order,
+        cost: sol.cost as f64 / 1000.0,
+    })
+}
+
+/// Cell centres of a cell path as world waypoints.
+pub fn waypoints(path: &[Cell], d: f64) -> Vec<Point2> {
+    path.iter().map(|c| c.center(d)).collect()
+}

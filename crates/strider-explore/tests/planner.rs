@@ -1,0 +1,98 @@
+//! The exploration tour and paths on a small synthetic map.
+
+use proptest::prelude::*;
+use strider_core::{Cell, CellRect, GaitId, Rgb8};
+use strider_explore::planner::{
+    CostMode, GoalKey, PlanningView, TourGoal, farthest_point_subsample, plan_tour,
+};
+use strider_learn::cost_model::{CostModelParams, GaitCostModel};
+use strider_map::ElevationMap;
+use strider_map::params::MapParams;
+use strider_plan::grid::Dijkstra;
+
+/// A 40 × 30 flat map with a wall (0.5 m) across x = 20 for rows 0..22, leaving a gap at the top.
+fn map() -> ElevationMap {
+    let mut m = ElevationMap::new(MapParams {
+        cell_size: 0.05,
+        r_robot: 0.1,
+        ..MapParams::default()
+    });
+    for c in CellRect::new(Cell::new(0, 0), 40, 30).cells() {
+        let wall = c.i == 20 && c.j < 22;
+        m.set_cell(c, if wall { 0.5 } else { 0.0 }, 1e-4, Rgb8([128, 128, 128]));
+    }
+    m.update_passability();
+    m
+}
+
+fn models() -> Vec<GaitCostModel> {
+    (0..2)
+        .map(|g| GaitCostModel::new(GaitId(g), 9, CostModelParams::default(), 1).unwrap())
+        .collect()
+}
+
+#[test]
+fn paths_avoid_inadmissible_cells_and_go_around_the_wall() {
+    let m = map();
+    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0).unwrap();
+    let mut dij = Dijkstra::new();
+    let path = view
+        .path(&mut dij, Cell::new(5, 5), Cell::new(35, 5))
+        .expect("reachable through the gap");
+    for c in &path {
+        assert!(m.is_admissible(*c), "{c:?} inadmissible");
+    }
+    assert!(path.iter().any(|c| c.j >= 22), "detours through the gap");
+}
+
+#[test]
+fn the_tour_visits_one_site_per_reachable_goal_and_skips_unreachable_ones() {
+    let m = map();
+    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0).unwrap();
+    let goals = vec![
+        TourGoal {
+            key: GoalKey::Spatial(Cell::new(35, 5)),
+            sites: vec![Cell::new(35, 5)],
+        },
+        TourGoal {
+            key: GoalKey::Cost { gait: 1, class: 3 },
+            sites: vec![Cell::new(10, 25), Cell::new(30, 25)],
+        },
+        TourGoal {
+            key: GoalKey::Spatial(Cell::new(20, 5)),
+            // On the wall: never reachable.
+            sites: vec![Cell::new(20, 5)],
+        },
+    ];
+    for greedy in [false, true] {
+        let tour = plan_tour(&view, Cell::new(5, 5), &goals, greedy, 1).unwrap();
+        if greedy {
+            assert_eq!(tour.order.len(), 1);
+            continue;
+        }
+        assert_eq!(tour.order.len(), 2);
+        let keys: Vec<GoalKey> = tour.order.iter().map(|o| o.0).collect();
+        assert!(keys.contains(&goals[0].key) && keys.contains(&goals[1].key));
+        // The cost goal is on the way through the gap: visited first, from its nearer site.
+        assert_eq!(tour.order[0], (goals[1].key, Cell::new(10, 25)));
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    #[test]
+    fn farthest_point_subsample_keeps_k_distinct_sites(
+        pts in proptest::collection::btree_set((0i32..50, 0i32..50), 1..60),
+        k in 1usize..20,
+    ) {
+        let sites: Vec<Cell> = pts.iter().map(|&(i, j)| Cell::new(i, j)).collect();
+        let sub = farthest_point_subsample(&sites, k);
+        prop_assert_eq!(sub.len(), k.min(sites.len()));
+        let mut dedup = sub.clone();
+        dedup.sort();
+        dedup.dedup();
+        prop_assert_eq!(dedup.len(), sub.len());
+        prop_assert!(sub.iter().all(|s| sites.contains(s)));
+    }
+}
