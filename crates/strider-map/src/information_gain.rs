@@ -141,15 +141,36 @@ impl GainView {
         let zs = ef as f64 + h;
         let zt = target_height(None, ef);
         // Only known cells above min(sensor, target) = ef can block a ray to an unknown
-        // target. Mark the directions such cells subtend; rays in unmarked directions are clear
-        // without casting them (exact: a ray meets a cell only within its angular extent).
-        let mut shadow = [false; ANGLE_BINS];
+        // target, and only over a range of target distances: the sight line to a target at
+        // distance R (cells) passes a cell at centre distance r no lower than
+        // zs − (zs − zt)·(r + ½√2)/R, so a cell of elevation e < zs can block only targets with
+        // R < (zs − zt)·(r + ½√2)/(zs − e), and none nearer than its near side r − ½√2. Each
+        // such cell marks the direction bins it subtends with that distance interval (kept as
+        // the hull per bin); targets outside every interval of their direction are clear
+        // without casting (exact: a ray meets a cell only within its angular extent, and a
+        // slightly raised cell shadows only the targets just behind it).
+        const HALF_DIAG: f64 = std::f64::consts::FRAC_1_SQRT_2;
+        let mut shadow = [(f32::INFINITY, f32::NEG_INFINITY); ANGLE_BINS];
         let mut any_tall = false;
         for &(di, dj) in disc {
-            if (di, dj) != (0, 0) && self.elevation(c.offset(di, dj)).is_some_and(|e| e > ef) {
-                mark_cell_directions(&mut shadow, di, dj);
-                any_tall = true;
+            if (di, dj) == (0, 0) {
+                continue;
             }
+            let Some(e) = self.elevation(c.offset(di, dj)) else {
+                continue;
+            };
+            if e <= ef {
+                continue;
+            }
+            let r = ((di * di + dj * dj) as f64).sqrt();
+            let start = (r - HALF_DIAG) as f32;
+            let end = if (e as f64) < zs {
+                ((zs - zt) * (r + HALF_DIAG) / (zs - e as f64)) as f32
+            } else {
+                f32::INFINITY
+            };
+            mark_cell_directions(&mut shadow, di, dj, start, end);
+            any_tall = true;
         }
         let mut sum = 0.0;
         for &(di, dj) in disc {
@@ -161,7 +182,11 @@ impl GainView {
             if g <= 0.0 {
                 continue;
             }
-            let maybe_blocked = any_tall && shadow[angle_bin(di as f64, dj as f64)];
+            let maybe_blocked = any_tall && {
+                let (lo, hi) = shadow[angle_bin(di as f64, dj as f64)];
+                let rt = ((di * di + dj * dj) as f32).sqrt();
+                rt >= lo && rt <= hi
+            };
             if !maybe_blocked || ray_clear(c, t, zs, zt, d, |x| self.elevation(x)) {
                 sum += g as f64;
             }
@@ -194,9 +219,16 @@ fn angle_bin(x: f64, y: f64) -> usize {
     ((pseudo_angle(x, y) * (ANGLE_BINS as f64 / 4.0)) as usize).min(ANGLE_BINS - 1)
 }
 
-/// Marks the direction bins subtended by the cell at offset `(di, dj)` ≠ 0 from the viewpoint
-/// (its four corners), widened by one bin on each side against rounding.
-fn mark_cell_directions(mask: &mut [bool; ANGLE_BINS], di: i32, dj: i32) {
+/// Widens the shadow interval of the direction bins subtended by the cell at offset
+/// `(di, dj)` ≠ 0 from the viewpoint (its four corners, plus one bin on each side against
+/// rounding) to include target distances `start..=end` (cells).
+fn mark_cell_directions(
+    mask: &mut [(f32, f32); ANGLE_BINS],
+    di: i32,
+    dj: i32,
+    start: f32,
+    end: f32,
+) {
     let (x, y) = (di as f64, dj as f64);
     let bins = [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)]
         .map(|(ox, oy)| angle_bin(x + ox, y + oy) as i64);
@@ -205,7 +237,9 @@ fn mark_cell_directions(mask: &mut [bool; ANGLE_BINS], di: i32, dj: i32) {
     let n = ANGLE_BINS as i64;
     let mut mark = |a: i64, b: i64| {
         for k in a - 1..=b + 1 {
-            mask[k.rem_euclid(n) as usize] = true;
+            let m = &mut mask[k.rem_euclid(n) as usize];
+            m.0 = m.0.min(start);
+            m.1 = m.1.max(end);
         }
     };
     if hi - lo > n / 2 {
