@@ -11,6 +11,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use serde_json::json;
+use strider_core::Pose2;
+use strider_explore::evaluate::{NavigationMode, run_tour};
 use strider_explore::{GaitSpec, Mission, MissionParams, Rates, Strategy};
 use strider_learn::cost_model::CostModelParams;
 use strider_learn::gp::{GpParams, Kernel, KernelKind};
@@ -130,6 +132,50 @@ pub fn run(
     let mut mission = Mission::new(params)?;
     let log = mission.run(&mut sim)?.clone();
 
+    // Benchmark tours on the frozen map and models, each mode in a fresh simulator standing at
+    // the tour's first waypoint.
+    let mut tours = Vec::new();
+    for tour in &sc.tours {
+        let mut pts = tour.waypoints.clone();
+        if tour.closed && pts.len() > 1 {
+            pts.push(pts[0]);
+        }
+        if pts.len() < 2 {
+            continue;
+        }
+        let mut modes = Vec::new();
+        for mode in NavigationMode::ALL {
+            let mut sc2 = sc.clone();
+            let yaw = (pts[1].y - pts[0].y).atan2(pts[1].x - pts[0].x);
+            sc2.start = Pose2::new(pts[0].x, pts[0].y, yaw);
+            let mut sim = Simulator::new(&sc2, seed)?;
+            let r = run_tour(
+                &mut sim,
+                mission.map(),
+                mission.models(),
+                mission.params(),
+                &pts,
+                mode,
+            )?;
+            modes.push(r);
+        }
+        tours.push((tour.name.clone(), modes));
+    }
+    let tours_json: Vec<_> = tours
+        .iter()
+        .map(|(name, modes)| {
+            json!({
+                "name": name,
+                "modes": modes.iter().map(|r| json!({
+                    "mode": r.mode.name(),
+                    "total_s": r.total_s,
+                    "completed": r.completed,
+                    "segments": r.segments,
+                })).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+
     let (rep_med, rep_max) = median_max(&log.replan_ms);
     let (gid_med, gid_max) = median_max(&log.goal_identification_ms);
     let models: Vec<_> = mission
@@ -159,6 +205,7 @@ pub fn run(
         "driven_m": log.driven_m,
         "observed_cells": mission.map().observed_count(),
         "models": models,
+        "tours": tours_json,
         "stuck_events": log.stuck_events,
         "replans": log.replan_ms.len(),
         "replan_latency_ms": {"median": rep_med, "max": rep_max},
@@ -185,5 +232,19 @@ pub fn run(
         wall_s,
         path.display()
     );
+    for (name, modes) in &tours {
+        let parts: Vec<String> = modes
+            .iter()
+            .map(|r| {
+                format!(
+                    "{} {:.0} s{}",
+                    r.mode.name(),
+                    r.total_s,
+                    if r.completed { "" } else { " (incomplete)" }
+                )
+            })
+            .collect();
+        println!("  tour {name}: {}", parts.join(", "));
+    }
     Ok(())
 }

@@ -15,6 +15,12 @@ pub trait SensorSink {
     fn on_pose(&mut self, _pose: &PoseStamped) {}
     /// An RGB-D (or omnidirectional) scan.
     fn on_cloud(&mut self, _cloud: &PointCloud) {}
+    /// Whether the consumer wants the next scan of sensor `sensor`. A hint: a simulator skips
+    /// producing scans nobody wants (it costs most of a simulation's time), a recorded log or a
+    /// real robot may ignore it and deliver every scan. Default: every scan.
+    fn wants_cloud(&self, _sensor: u8) -> bool {
+        true
+    }
     /// Proprioceptive readings.
     fn on_proprioception(&mut self, _p: &Proprioception) {}
 }

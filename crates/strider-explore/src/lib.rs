@@ -9,12 +9,15 @@
 //!   goal sets (Alg. 1 line 17, decision 23), or cheapest-goal-next for the greedy baseline.
 //! * [`mission`]: the loop of Alg. 1 at the module rates of `001` Tbl. 4, the sampling
 //!   manoeuvre (decision 24), the stuck reflex (decision 9) and termination (decision 25).
+//! * [`evaluate`]: benchmark tours after exploration under the flat, gait-selection and learned
+//!   navigation modes (`001` §5, Tbl. 5), timed per segment.
 //! * [`stats`]: summaries and Mann–Whitney U tests for comparing strategies over trials.
 //!
 //! The crate reaches the robot only through [`strider_core::interface::Robot`]; it does not
 //! depend on the simulator or on the scenario crate (which holds the ground-truth world), so the
 //! learned models cannot read ground truth.
 
+pub mod evaluate;
 pub mod mission;
 pub mod params;
 pub mod planner;

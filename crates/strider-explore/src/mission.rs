@@ -121,6 +121,11 @@ pub struct Mission {
     last_pos: Option<Point2>,
     poses_seen: u64,
     unreachable_since: Option<f64>,
+    /// Pose (x, y, yaw) of the last fused scan per sensor.
+    keyframes: Vec<Option<(f64, f64, f64)>>,
+    /// Spatial goals reached so far: goals within c_radius of one are not pursued again (what
+    /// could not be seen from there will not be seen by returning).
+    visited: Vec<Cell>,
 }
 
 impl Mission {
@@ -205,6 +210,8 @@ impl Mission {
             last_pos: None,
             poses_seen: 0,
             unreachable_since: None,
+            keyframes: Vec::new(),
+            visited: Vec::new(),
             params,
         })
     }
@@ -325,6 +332,10 @@ impl Mission {
             let bounds = self.params.bounds;
             let gain = information_gain(&self.map, &reach, bounds.as_ref());
             self.spatial = cluster_information(&self.map, &gain, &reach, bounds.as_ref());
+            let r = self.map.params().c_radius / self.map.cell_size();
+            let visited = &self.visited;
+            self.spatial
+                .retain(|g| visited.iter().all(|v| v.dist_cells(g.cell) > r));
             self.spatial_once = true;
         }
         self.log
@@ -398,6 +409,11 @@ impl Mission {
         let reached = self
             .current
             .is_some_and(|(_, site)| here.dist_cells(site) <= 1.5 || state.idle);
+        if reached && let Some((GoalKey::Spatial(c), _)) = self.current {
+            self.visited.push(c);
+            let r = self.map.params().c_radius / self.map.cell_size();
+            self.spatial.retain(|g| g.cell.dist_cells(c) > r);
+        }
         if reached && let Some((GoalKey::Cost { gait, .. }, _)) = self.current {
             // Lines 12–15: sample the reached cost goal with its gait.
             self.log.samplings[gait as usize] += 1;
@@ -601,7 +617,28 @@ impl SensorSink for Mission {
         }
     }
 
+    /// Keyframes: a scan is fused when the robot moved at least max(d_ν, r_sensor/50) or turned
+    /// at least 10° since the last fused scan of that sensor. In a static world a scan from
+    /// (almost) the same pose adds nothing to the map; skipping it lets the simulator skip
+    /// producing it.
+    fn wants_cloud(&self, sensor: u8) -> bool {
+        let (Some(p), Some(Some(k))) = (self.pose, self.keyframes.get(sensor as usize)) else {
+            return true;
+        };
+        let dist = ((p.position.x - k.0).powi(2) + (p.position.y - k.1).powi(2)).sqrt();
+        let turn = strider_core::geom::wrap_angle(p.yaw - k.2).abs();
+        let mp = self.map.params();
+        dist >= mp.cell_size.max(mp.r_sensor / 50.0) || turn >= 10f64.to_radians()
+    }
+
     fn on_cloud(&mut self, cloud: &PointCloud) {
         self.map.integrate(cloud);
+        if let Some(p) = self.pose {
+            let k = cloud.sensor as usize;
+            if self.keyframes.len() <= k {
+                self.keyframes.resize(k + 1, None);
+            }
+            self.keyframes[k] = Some((p.position.x, p.position.y, p.yaw));
+        }
     }
 }

@@ -263,11 +263,13 @@ impl Simulator {
         }
         for i in 0..self.sensors.len() {
             while self.sensor_ticks[i] as f64 / self.sensors[i].spec().rate_hz <= now {
-                let cloud = self.scan(
-                    i,
-                    self.sensor_ticks[i] as f64 / self.sensors[i].spec().rate_hz,
-                );
-                sink.on_cloud(&cloud);
+                if sink.wants_cloud(i as u8) {
+                    let cloud = self.scan(
+                        i,
+                        self.sensor_ticks[i] as f64 / self.sensors[i].spec().rate_hz,
+                    );
+                    sink.on_cloud(&cloud);
+                }
                 self.sensor_ticks[i] += 1;
             }
         }

@@ -1,0 +1,274 @@
+//! Benchmark tours after exploration (`001` §5, Tbl. 5): the robot visits a scenario's
+//! waypoints in order with the map and models frozen as the exploration left them, under one of
+//! three navigation modes, and each segment is timed in robot time.
+//!
+//! * [`NavigationMode::Flat`] — the baseline: shortest admissible paths (Eq. 5 costs) and the
+//!   reactive gait (the fastest gait; the stuck reflex switches to the rough-terrain gait).
+//! * [`NavigationMode::GaitSelection`] — the learned gait choice (Alg. 4) on straight paths
+//!   between waypoints; where the straight segment crosses an inadmissible cell the shortest
+//!   admissible path is used instead.
+//! * [`NavigationMode::Learned`] — the proposed: cheapest paths on the learned, merged cost grid
+//!   and the learned gait choice.
+
+use crate::mission::{MissionError, TrajectorySample};
+use crate::params::MissionParams;
+use crate::planner::{CostMode, PlanningView, waypoints};
+use serde::Serialize;
+use strider_core::grid::CellRay;
+use strider_core::interface::{Robot, SensorSink};
+use strider_core::{Cell, GaitId, Point2, PoseStamped};
+use strider_learn::cost_model::GaitCostModel;
+use strider_learn::signals::{FallbackTimer, InverseVelocityCost, InverseVelocityParams};
+use strider_map::ElevationMap;
+use strider_plan::grid::Dijkstra;
+
+/// How the robot navigates a benchmark tour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum NavigationMode {
+    /// Shortest paths, reactive gait.
+    Flat,
+    /// Straight paths, learned gait.
+    GaitSelection,
+    /// Learned costs and gaits.
+    Learned,
+}
+
+impl NavigationMode {
+    /// All modes, in report order.
+    pub const ALL: [NavigationMode; 3] = [
+        NavigationMode::Flat,
+        NavigationMode::GaitSelection,
+        NavigationMode::Learned,
+    ];
+
+    /// The report name.
+    pub fn name(self) -> &'static str {
+        match self {
+            NavigationMode::Flat => "flat",
+            NavigationMode::GaitSelection => "gait-selection",
+            NavigationMode::Learned => "learned",
+        }
+    }
+}
+
+/// One timed segment of a tour.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SegmentResult {
+    /// Index of the waypoint the segment starts at.
+    pub from: usize,
+    /// Index of the waypoint it ends at.
+    pub to: usize,
+    /// Robot time spent, s.
+    pub time_s: f64,
+    /// Whether the waypoint was reached (false: the segment timed out or had no path).
+    pub reached: bool,
+}
+
+/// A timed tour.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TourResult {
+    /// Navigation mode.
+    pub mode: NavigationMode,
+    /// Segments in order.
+    pub segments: Vec<SegmentResult>,
+    /// Sum of the segment times, s.
+    pub total_s: f64,
+    /// Every segment reached its waypoint.
+    pub completed: bool,
+    /// Trajectory at 2 Hz.
+    pub trajectory: Vec<TrajectorySample>,
+}
+
+/// Records poses and watches for the stuck condition while a tour runs (no mapping, no
+/// learning: the models are frozen).
+struct TourSink {
+    pose: Option<PoseStamped>,
+    signal: InverseVelocityCost,
+    moving: bool,
+    trajectory: Vec<TrajectorySample>,
+    poses: u64,
+}
+
+impl SensorSink for TourSink {
+    /// The map is frozen during a tour: no scans needed.
+    fn wants_cloud(&self, _sensor: u8) -> bool {
+        false
+    }
+
+    fn on_pose(&mut self, pose: &PoseStamped) {
+        if !(pose.position.x.is_finite() && pose.position.y.is_finite()) {
+            return;
+        }
+        self.pose = Some(*pose);
+        self.poses += 1;
+        if self.poses % 10 == 1 {
+            self.trajectory.push(TrajectorySample {
+                t: pose.stamp,
+                x: pose.position.x,
+                y: pose.position.y,
+                gait: pose.gait.0,
+            });
+        }
+        if self.moving {
+            self.signal.push(pose, pose.gait);
+        }
+    }
+}
+
+/// The nearest observed admissible cell to `c` within 3·r_robot (waypoints may sit next to an
+/// obstacle the footprint cannot approach).
+fn admissible_near(map: &ElevationMap, c: Cell) -> Option<Cell> {
+    let ok = |c: Cell| map.is_observed(c) && map.is_admissible(c);
+    if ok(c) {
+        return Some(c);
+    }
+    strider_core::grid::disc_offsets(3.0 * map.params().r_robot, map.cell_size())
+        .into_iter()
+        .map(|(di, dj)| Cell::new(c.i + di, c.j + dj))
+        .find(|&x| ok(x))
+}
+
+/// A straight path from `a` to `b` if every cell it crosses is admissible.
+fn straight_path(map: &ElevationMap, a: Point2, b: Point2) -> Option<Vec<Point2>> {
+    let d = map.cell_size();
+    let ok = CellRay::new(a, b, d).all(|c| map.is_observed(c) && map.is_admissible(c));
+    ok.then(|| vec![a, b])
+}
+
+/// Runs the tour `waypoints` (the robot standing at the first one) under `mode`.
+pub fn run_tour<R: Robot>(
+    robot: &mut R,
+    map: &ElevationMap,
+    models: &[GaitCostModel],
+    params: &MissionParams,
+    tour: &[Point2],
+    mode: NavigationMode,
+) -> Result<TourResult, MissionError> {
+    let v_max = params.v_max();
+    let signal = InverseVelocityCost::new(InverseVelocityParams::new(
+        params.window_s,
+        vec![v_max; params.gaits.len()],
+        params.c_high,
+        params.cost_model.c_max,
+    ))
+    .map_err(|e| MissionError::Params(e.to_string()))?;
+    let mut fallback =
+        FallbackTimer::new(params.dt_fallback).map_err(|e| MissionError::Params(e.to_string()))?;
+    let mut sink = TourSink {
+        pose: None,
+        signal,
+        moving: false,
+        trajectory: Vec::new(),
+        poses: 0,
+    };
+    let flat = PlanningView::build(map, models, CostMode::Flat, params.c_loss);
+    let learned = PlanningView::build(map, models, CostMode::Learned, params.c_loss);
+    let (plan_view, gait_view) = match mode {
+        NavigationMode::Flat => (flat.as_ref(), None),
+        NavigationMode::GaitSelection => (flat.as_ref(), learned.as_ref()),
+        NavigationMode::Learned => (learned.as_ref(), learned.as_ref()),
+    };
+    let fastest = GaitId(
+        (0..params.gaits.len())
+            .max_by(|&a, &b| {
+                params.gaits[a]
+                    .v_max
+                    .total_cmp(&params.gaits[b].v_max)
+                    .then(b.cmp(&a))
+            })
+            .unwrap_or(0) as u8,
+    );
+    let rough = params.rough_gait();
+    let d = map.cell_size();
+    let r_robot = map.params().r_robot;
+    let dt = 1.0 / params.rates.control_hz;
+    let v_min = params
+        .gaits
+        .iter()
+        .map(|g| g.v_max)
+        .fold(f64::INFINITY, f64::min)
+        .max(1e-6);
+    let mut gait = fastest;
+    robot.set_gait(gait);
+    // Let one pose arrive.
+    robot
+        .advance(dt, &mut sink)
+        .map_err(|e| MissionError::Robot(e.to_string()))?;
+    let mut segments = Vec::new();
+    for (i, w) in tour.windows(2).enumerate() {
+        let (a, b) = (w[0], w[1]);
+        let t_start = robot.now();
+        let limit = 60.0 + 20.0 * a.dist(b) / v_min;
+        let here_pt = |s: &TourSink| s.pose.map(|p| Point2::new(p.position.x, p.position.y));
+        let plan = |from: Point2| -> Option<Vec<Point2>> {
+            if mode == NavigationMode::GaitSelection
+                && let Some(p) = straight_path(map, from, b)
+            {
+                return Some(p);
+            }
+            let view = plan_view?;
+            let src = admissible_near(map, map.cell_at(from.x, from.y)?)?;
+            let dst = admissible_near(map, map.cell_at(b.x, b.y)?)?;
+            let cells = view.path(&mut Dijkstra::new(), src, dst)?;
+            let mut pts = waypoints(&cells, d);
+            pts.push(b);
+            Some(pts)
+        };
+        let mut path = here_pt(&sink).and_then(plan);
+        let mut reached = false;
+        if let Some(p) = &path {
+            robot.follow(p);
+        }
+        let mut replans = 0;
+        while path.is_some() && robot.now() - t_start < limit {
+            sink.moving = true;
+            let st = robot
+                .advance(dt, &mut sink)
+                .map_err(|e| MissionError::Robot(e.to_string()))?;
+            let t = robot.now();
+            let Some(p) = here_pt(&sink) else { continue };
+            if p.dist(b) <= 1.5 * d || st.idle {
+                reached = p.dist(b) <= 3.0 * d.max(r_robot);
+                break;
+            }
+            if st.blocked && replans < 5 {
+                replans += 1;
+                path = plan(p);
+                if let Some(q) = &path {
+                    robot.follow(q);
+                }
+            }
+            let stuck = sink.signal.is_stuck();
+            fallback.update(t, stuck);
+            let g = if fallback.is_active(t) {
+                rough
+            } else if let (Some(v), Some(c)) = (gait_view, map.cell_at(p.x, p.y)) {
+                v.choose_gait(c, r_robot).unwrap_or(gait)
+            } else {
+                fastest
+            };
+            if g != gait {
+                gait = g;
+                robot.set_gait(g);
+            }
+        }
+        sink.moving = false;
+        sink.signal.reset();
+        robot.follow(&[]);
+        segments.push(SegmentResult {
+            from: i,
+            to: i + 1,
+            time_s: robot.now() - t_start,
+            reached,
+        });
+    }
+    let total_s = segments.iter().map(|s| s.time_s).sum();
+    let completed = segments.iter().all(|s| s.reached);
+    Ok(TourResult {
+        mode,
+        segments,
+        total_s,
+        completed,
+        trajectory: sink.trajectory,
+    })
+}
