@@ -21,6 +21,11 @@ use strider_scenario::Scenario;
 use strider_sim::Simulator;
 
 use crate::cmd_scenario::load;
+use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
+use strider_core::Point2;
+use strider_explore::MissionLog;
+use strider_explore::evaluate::TourResult;
+use strider_explore::planner::{CostMode, PlanningView};
 
 /// A number from the scenario's `[strategy]` table, or `default`.
 fn num(sc: &Scenario, key: &str, default: f64) -> f64 {
@@ -176,6 +181,8 @@ pub fn run(
         })
         .collect();
 
+    write_figures(&mission, &log, &tours, out)?;
+
     let (rep_med, rep_max) = median_max(&log.replan_ms);
     let (gid_med, gid_max) = median_max(&log.goal_identification_ms);
     let models: Vec<_> = mission
@@ -245,6 +252,85 @@ pub fn run(
             })
             .collect();
         println!("  tour {name}: {}", parts.join(", "));
+    }
+    Ok(())
+}
+
+/// The figures of `001` Fig. 7 over the map's known area: map colour, merged planning cost and
+/// selected gait (Eq. 13), per gait the learned cell costs, the classes (dilated, Alg. 10) and
+/// the planning cost, the exploration path, and the tour paths of each navigation mode.
+fn write_figures(
+    mission: &Mission,
+    log: &MissionLog,
+    tours: &[(String, Vec<TourResult>)],
+    out: &Path,
+) -> Result<()> {
+    let map = mission.map();
+    let Some(rect) = map.known_bounds() else {
+        return Ok(());
+    };
+    let d = map.cell_size();
+    let scale = Canvas::auto_scale(rect, 900);
+    let colors = map.color_raster(rect);
+    rgb_canvas(rect, d, scale, &colors).save(&out.join("color.png"))?;
+    let c_max = mission.params().cost_model.c_max as f32;
+    if let Some(view) = PlanningView::build(
+        map,
+        mission.models(),
+        CostMode::Learned,
+        mission.params().c_loss,
+    ) {
+        scalar_canvas(rect, d, scale, view.grid.costs(), Some((1.0, c_max)))
+            .0
+            .save(&out.join("merged_cost.png"))?;
+        let mut g = Canvas::new(rect, d, scale);
+        let obs = map.observed_raster(rect);
+        g.fill(|k| {
+            obs[k]
+                .then_some(view.best_gait[k])
+                .flatten()
+                .map(|x| palette(x as usize))
+        });
+        g.save(&out.join("gait.png"))?;
+    }
+    for (gi, m) in mission.models().iter().enumerate() {
+        let name = &mission.params().gaits[gi].name;
+        let costs: Vec<f32> = rect
+            .cells()
+            .map(|c| m.cell_cost(c).map_or(f32::NAN, |k| k.cost as f32))
+            .collect();
+        scalar_canvas(rect, d, scale, &costs, Some((1.0, c_max)))
+            .0
+            .save(&out.join(format!("measured_cost_{name}.png")))?;
+        let mut cl = Canvas::new(rect, d, scale);
+        let cells: Vec<_> = rect.cells().map(|c| m.planning_class(c)).collect();
+        cl.fill(|k| cells[k].map(|t| palette(t.0 as usize)));
+        cl.save(&out.join(format!("classes_{name}.png")))?;
+        scalar_canvas(rect, d, scale, &m.planning_costs(rect), Some((1.0, c_max)))
+            .0
+            .save(&out.join(format!("planning_cost_{name}.png")))?;
+    }
+    let mut path = rgb_canvas(rect, d, scale, &colors);
+    let pts: Vec<Point2> = log
+        .trajectory
+        .iter()
+        .map(|s| Point2::new(s.x, s.y))
+        .collect();
+    path.polyline(&pts, [255, 0, 255], 2);
+    path.save(&out.join("exploration_path.png"))?;
+    for (name, modes) in tours {
+        for r in modes {
+            let mut c = rgb_canvas(rect, d, scale, &colors);
+            for w in r.trajectory.windows(2) {
+                let col = palette(w[0].gait as usize);
+                c.polyline(
+                    &[Point2::new(w[0].x, w[0].y), Point2::new(w[1].x, w[1].y)],
+                    col,
+                    2,
+                );
+            }
+            c.save(&out.join(format!("tour_{name}_{}.png", r.mode.name())))?;
+        }
     }
     Ok(())
 }

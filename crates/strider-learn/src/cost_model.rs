@@ -747,19 +747,28 @@ impl GaitCostModel {
     }
 
     /// Planning cost ĉ_{C^g}(ν) over `rect` (Alg. 10, Eq. 18), row-major: the dilated class's
-    /// prediction clamped to [1, c_max], c_max where no class is left. Before the regressor
-    /// exists every cell has the prior cost 1 (flat costs).
+    /// prediction clamped to [1, c_max]; c_max for cells left without a class by erosion and
+    /// dilation (Eq. 18's ∅). Cells without a descriptor (too little of their r_hist disc is
+    /// known yet, or outside the last update) have no prediction at all; they get the prior cost
+    /// (decision 12: unseen terrain is as easy as ideal terrain), as does every cell before the
+    /// regressor exists (flat costs).
     pub fn planning_costs(&self, rect: CellRect) -> Vec<f32> {
         if !self.has_regressor() {
             return vec![self.clamp(self.params.gp.prior_mean) as f32; rect.len()];
         }
         rect.cells()
             .map(|c| {
+                let prior = self.clamp(self.params.gp.prior_mean);
                 let cost = match self.rect.index(c).map(|k| self.plan_class[k]) {
-                    Some(TerrainCell::Class(t)) => self.class_cost.get(&t).copied(),
-                    _ => None,
+                    Some(TerrainCell::Class(t)) => self
+                        .class_cost
+                        .get(&t)
+                        .copied()
+                        .unwrap_or(self.params.c_max),
+                    Some(TerrainCell::Eroded) => self.params.c_max,
+                    Some(TerrainCell::Unknown) | None => prior,
                 };
-                cost.unwrap_or(self.params.c_max) as f32
+                cost as f32
             })
             .collect()
     }
