@@ -197,6 +197,17 @@ pub fn run(
                 "measured_cells": m.measured_cells().len(),
                 "classes": m.igng().len(),
                 "cost_samples": log.cost_samples[g],
+                "h_gt": mission.model_updates()[g].h_gt,
+                "class_table": mission.model_updates()[g].classes.iter().map(|c| json!({
+                    "id": c.id.0,
+                    "dominant_colour_bin": c.prototype.iter().enumerate()
+                        .max_by(|a, b| a.1.total_cmp(b.1)).map(|(k, _)| k),
+                    "cells": c.cells,
+                    "learning_cells": c.learning_cells,
+                    "cost": c.cost,
+                    "variance": c.variance,
+                    "information_gain": c.information_gain,
+                })).collect::<Vec<_>>(),
                 "samplings": log.samplings[g],
             })
         })
@@ -214,6 +225,7 @@ pub fn run(
         "models": models,
         "tours": tours_json,
         "stuck_events": log.stuck_events,
+        "turn_skipped_cost_samples": log.turn_skipped,
         "replans": log.replan_ms.len(),
         "replan_latency_ms": {"median": rep_med, "max": rep_max},
         "goal_identification_ms": {"median": gid_med, "max": gid_max},

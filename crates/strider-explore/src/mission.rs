@@ -11,7 +11,9 @@
 //! * a goal counts as reached when the robot is within 1.5 cells of its site or has finished
 //!   the path to it;
 //! * cost samples are taken only while the robot follows a path (a standing robot measures no
-//!   terrain), and the stuck reflex fires only while it is commanded to move;
+//!   terrain) and not from windows in which it turned by more than 45° (turning in place at
+//!   path corners is the path's time, not the terrain's); the stuck reflex fires only while it
+//!   is commanded to move;
 //! * goals none of whose sites is reachable on the current planning grid are not pursued; the
 //!   exploration ends (decision 25) when no reachable goal remains after the spatial and
 //!   learning modules have both run, or at the time limit.
@@ -23,13 +25,17 @@ use crate::planner::{
 use std::time::Instant;
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{Cell, GaitId, Point2, PointCloud, PoseStamped};
-use strider_learn::cost_model::{CostGoal, GaitCostModel};
+use strider_learn::cost_model::{CostGoal, GaitCostModel, ModelUpdate};
 use strider_learn::descriptor_field::DescriptorField;
 use strider_learn::signals::{FallbackTimer, InverseVelocityCost, InverseVelocityParams};
 use strider_map::descriptors::{TA_BINS, color_histograms};
 use strider_map::reachability::Reachability;
 use strider_map::{ElevationMap, SpatialGoal, cluster_information, information_gain};
 use strider_plan::grid::Dijkstra;
+
+/// Cost windows in which the heading changed by more than this (summed |Δyaw|, rad) measure
+/// the path's turns rather than the terrain and are not stored.
+const MAX_TURN_IN_WINDOW: f64 = std::f64::consts::FRAC_PI_4;
 
 /// Why a mission stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -87,6 +93,8 @@ pub struct MissionLog {
     pub cost_samples: Vec<usize>,
     /// Stuck-reflex activations.
     pub stuck_events: usize,
+    /// Cost samples dropped because the robot turned more than 45° within their window.
+    pub turn_skipped: usize,
     /// Wall time of the mission, s.
     pub wall_s: f64,
 }
@@ -121,10 +129,16 @@ pub struct Mission {
     last_pos: Option<Point2>,
     poses_seen: u64,
     unreachable_since: Option<f64>,
+    /// (stamp, yaw, |Δyaw|) over the last cost window, and the sum of |Δyaw|.
+    turn_window: std::collections::VecDeque<(f64, f64, f64)>,
+    turn_sum: f64,
     /// Pose (x, y, yaw) of the last fused scan per sensor.
     keyframes: Vec<Option<(f64, f64, f64)>>,
-    /// Spatial goals reached so far: goals within c_radius of one are not pursued again (what
-    /// could not be seen from there will not be seen by returning).
+    /// The last Alg. 6 outcome per gait model.
+    updates: Vec<ModelUpdate>,
+    /// Spatial goals reached so far: goals within 2·r_robot of one are not pursued again (what
+    /// could not be seen from there, e.g. the sensor's blind zone around the robot, will not be
+    /// seen by returning).
     visited: Vec<Cell>,
 }
 
@@ -205,13 +219,19 @@ impl Mission {
                 samplings: vec![0; n],
                 cost_samples: vec![0; n],
                 stuck_events: 0,
+                turn_skipped: 0,
                 wall_s: 0.0,
             },
             last_pos: None,
             poses_seen: 0,
             unreachable_since: None,
             keyframes: Vec::new(),
+            turn_window: std::collections::VecDeque::with_capacity(
+                (params.window_s * 40.0).ceil() as usize + 8,
+            ),
+            turn_sum: 0.0,
             visited: Vec::new(),
+            updates: vec![ModelUpdate::default(); n],
             params,
         })
     }
@@ -224,6 +244,11 @@ impl Mission {
     /// The per-gait cost models.
     pub fn models(&self) -> &[GaitCostModel] {
         &self.models
+    }
+
+    /// The last learning update (classes, H^GT, goals) of each gait model.
+    pub fn model_updates(&self) -> &[ModelUpdate] {
+        &self.updates
     }
 
     /// The latest descriptors.
@@ -332,7 +357,7 @@ impl Mission {
             let bounds = self.params.bounds;
             let gain = information_gain(&self.map, &reach, bounds.as_ref());
             self.spatial = cluster_information(&self.map, &gain, &reach, bounds.as_ref());
-            let r = self.map.params().c_radius / self.map.cell_size();
+            let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
             let visited = &self.visited;
             self.spatial
                 .retain(|g| visited.iter().all(|v| v.dist_cells(g.cell) > r));
@@ -355,9 +380,10 @@ impl Mission {
         self.cost_goals.clear();
         for (g, m) in self.models.iter_mut().enumerate() {
             if let Ok(u) = m.update(&self.map, &self.desc) {
-                for goal in u.goals {
-                    self.cost_goals.push((g as u8, goal));
+                for goal in &u.goals {
+                    self.cost_goals.push((g as u8, goal.clone()));
                 }
+                self.updates[g] = u;
             }
         }
         self.learned_once = true;
@@ -411,7 +437,7 @@ impl Mission {
             .is_some_and(|(_, site)| here.dist_cells(site) <= 1.5 || state.idle);
         if reached && let Some((GoalKey::Spatial(c), _)) = self.current {
             self.visited.push(c);
-            let r = self.map.params().c_radius / self.map.cell_size();
+            let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
             self.spatial.retain(|g| g.cell.dist_cells(c) > r);
         }
         if reached && let Some((GoalKey::Cost { gait, .. }, _)) = self.current {
@@ -604,10 +630,32 @@ impl SensorSink for Mission {
                 gait: pose.gait.0,
             });
         }
+        // Heading change over the cost window (|Δyaw| summed), to drop windows with turns.
+        if let Some(prev) = self.turn_window.back().map(|&(_, y, _)| y) {
+            let dy = strider_core::geom::wrap_angle(pose.yaw - prev).abs();
+            self.turn_sum += dy;
+            self.turn_window.push_back((pose.stamp, pose.yaw, dy));
+        } else {
+            self.turn_window.push_back((pose.stamp, pose.yaw, 0.0));
+        }
+        while let Some(&(t, _, dy)) = self.turn_window.front() {
+            if t >= pose.stamp - self.params.window_s {
+                break;
+            }
+            self.turn_sum -= dy;
+            self.turn_window.pop_front();
+        }
         if !self.moving {
             return;
         }
-        if let Some(s) = self.signal.push(pose, pose.gait)
+        let sample = self.signal.push(pose, pose.gait);
+        if sample.is_some() && self.turn_sum > MAX_TURN_IN_WINDOW {
+            // The robot spent part of the window turning: that time is the path's, not the
+            // terrain's.
+            self.log.turn_skipped += 1;
+            return;
+        }
+        if let Some(s) = sample
             && let Some(cell) = self.map.cell_at(s.position.x, s.position.y)
             && let Some(m) = self.models.get_mut(s.gait.0 as usize)
             && let Ok(ins) = m.insert_measurement(cell, s.cost, &self.desc)
