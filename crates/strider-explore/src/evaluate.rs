@@ -62,6 +62,12 @@ pub struct SegmentResult {
     pub time_s: f64,
     /// Whether the waypoint was reached (false: the segment timed out or had no path).
     pub reached: bool,
+    /// Control ticks on which the robot refused the next cell of its path.
+    pub blocked_ticks: usize,
+    /// Control ticks spent with the stuck reflex's rough gait.
+    pub fallback_ticks: usize,
+    /// Whether a path was found at the start of the segment.
+    pub planned: bool,
 }
 
 /// A timed tour.
@@ -220,6 +226,8 @@ pub fn run_tour<R: Robot>(
             robot.follow(p);
         }
         let mut replans = 0;
+        let (mut blocked_ticks, mut fallback_ticks) = (0usize, 0usize);
+        let planned = path.is_some();
         while path.is_some() && robot.now() - t_start < limit {
             sink.moving = true;
             let st = robot
@@ -231,6 +239,7 @@ pub fn run_tour<R: Robot>(
                 reached = p.dist(b) <= 3.0 * d.max(r_robot);
                 break;
             }
+            blocked_ticks += st.blocked as usize;
             if st.blocked && replans < 5 {
                 replans += 1;
                 path = plan(p);
@@ -241,6 +250,7 @@ pub fn run_tour<R: Robot>(
             let stuck = sink.signal.is_stuck();
             fallback.update(t, stuck);
             let g = if fallback.is_active(t) {
+                fallback_ticks += 1;
                 rough
             } else if let (Some(v), Some(c)) = (gait_view, map.cell_at(p.x, p.y)) {
                 v.choose_gait(c, r_robot).unwrap_or(gait)
@@ -260,6 +270,9 @@ pub fn run_tour<R: Robot>(
             to: i + 1,
             time_s: robot.now() - t_start,
             reached,
+            blocked_ticks,
+            fallback_ticks,
+            planned,
         });
     }
     let total_s = segments.iter().map(|s| s.time_s).sum();
