@@ -176,6 +176,7 @@ pub fn run(
                     "total_s": r.total_s,
                     "completed": r.completed,
                     "segments": r.segments,
+                    "trajectory": r.trajectory,
                 })).collect::<Vec<_>>(),
             })
         })
@@ -291,6 +292,7 @@ fn write_figures(
         mission.models(),
         CostMode::Learned,
         mission.params().c_loss,
+        mission.params().bounds.as_ref(),
     ) {
         scalar_canvas(rect, d, scale, view.grid.costs(), Some((1.0, c_max)))
             .0

@@ -121,10 +121,10 @@ impl SensorSink for TourSink {
     }
 }
 
-/// The nearest observed admissible cell to `c` within 3·r_robot (waypoints may sit next to an
-/// obstacle the footprint cannot approach).
-fn admissible_near(map: &ElevationMap, c: Cell) -> Option<Cell> {
-    let ok = |c: Cell| map.is_observed(c) && map.is_admissible(c);
+/// The nearest cell to `c` within 3·r_robot where the planning grid lets the robot's centre be
+/// (waypoints may sit next to an obstacle or the bounds, which the footprint cannot approach).
+fn admissible_near(map: &ElevationMap, view: &PlanningView, c: Cell) -> Option<Cell> {
+    let ok = |c: Cell| view.grid.cost(c).is_some_and(f32::is_finite);
     if ok(c) {
         return Some(c);
     }
@@ -167,8 +167,20 @@ pub fn run_tour<R: Robot>(
         trajectory: Vec::new(),
         poses: 0,
     };
-    let flat = PlanningView::build(map, models, CostMode::Flat, params.c_loss);
-    let learned = PlanningView::build(map, models, CostMode::Learned, params.c_loss);
+    let flat = PlanningView::build(
+        map,
+        models,
+        CostMode::Flat,
+        params.c_loss,
+        params.bounds.as_ref(),
+    );
+    let learned = PlanningView::build(
+        map,
+        models,
+        CostMode::Learned,
+        params.c_loss,
+        params.bounds.as_ref(),
+    );
     let (plan_view, gait_view) = match mode {
         NavigationMode::Flat => (flat.as_ref(), None),
         NavigationMode::GaitSelection => (flat.as_ref(), learned.as_ref()),
@@ -213,8 +225,8 @@ pub fn run_tour<R: Robot>(
                 return Some(p);
             }
             let view = plan_view?;
-            let src = admissible_near(map, map.cell_at(from.x, from.y)?)?;
-            let dst = admissible_near(map, map.cell_at(b.x, b.y)?)?;
+            let src = admissible_near(map, view, map.cell_at(from.x, from.y)?)?;
+            let dst = admissible_near(map, view, map.cell_at(b.x, b.y)?)?;
             let cells = view.path(&mut Dijkstra::new(), src, dst)?;
             let mut pts = waypoints(&cells, d);
             pts.push(b);

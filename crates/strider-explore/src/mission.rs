@@ -469,7 +469,13 @@ impl Mission {
             CostMode::Learned
         };
         self.map.update_passability();
-        let view = PlanningView::build(&self.map, &self.models, mode, self.params.c_loss);
+        let view = PlanningView::build(
+            &self.map,
+            &self.models,
+            mode,
+            self.params.c_loss,
+            self.params.bounds.as_ref(),
+        );
         let tour = view.as_ref().and_then(|v| {
             plan_tour(
                 v,

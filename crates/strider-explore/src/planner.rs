@@ -6,6 +6,7 @@ use strider_core::{Cell, CellRect, GaitId, Point2};
 use strider_learn::cost_model::GaitCostModel;
 use strider_map::ElevationMap;
 use strider_map::passability::Passability;
+use strider_map::rect::WorldRect;
 use strider_plan::grid::{CostGrid, Dijkstra, all_pairs, transform};
 use strider_plan::gtsp::{self, Mode, SolverParams};
 use strider_plan::tsplib::{CostMatrix, Instance};
@@ -33,14 +34,24 @@ pub struct PlanningView {
 
 impl PlanningView {
     /// Builds the view from the map and the gait models. `None` while the map is empty.
+    ///
+    /// Cells outside the exploration `bounds` are treated as impassable, so the footprint keeps
+    /// the robot's centre r_robot inside them: the robot may not leave the area it is tasked
+    /// with, and the map cannot see where the ground ends (a simulated world's edge, a drop).
     pub fn build(
         map: &ElevationMap,
         models: &[GaitCostModel],
         mode: CostMode,
         c_loss: f64,
+        bounds: Option<&WorldRect>,
     ) -> Option<Self> {
-        let rect = map.known_bounds()?;
         let d = map.cell_size();
+        let reach = (map.params().r_robot / d).ceil() as u32 + 1;
+        let rect = strider_map::rect::expand(map.known_bounds()?, reach);
+        let outside: Vec<bool> = rect
+            .cells()
+            .map(|c| bounds.is_some_and(|b| !b.contains_cell(c, d)))
+            .collect();
         let pass = map.passability_raster(rect);
         let adm = map.admissible_raster(rect);
         let per_gait: Vec<CostGrid> = models
@@ -50,7 +61,11 @@ impl PlanningView {
                     CostMode::Flat => vec![1.0f32; rect.len()],
                     CostMode::Learned => m.planning_costs(rect),
                 };
-                for (v, p) in c.iter_mut().zip(&pass) {
+                for ((v, p), &out) in c.iter_mut().zip(&pass).zip(&outside) {
+                    if out {
+                        *v = f32::INFINITY;
+                        continue;
+                    }
                     match p {
                         Passability::Impassable => *v = f32::INFINITY,
                         // Unknown cells do not raise their neighbours' footprint cost; the

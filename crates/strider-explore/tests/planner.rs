@@ -34,7 +34,7 @@ fn models() -> Vec<GaitCostModel> {
 #[test]
 fn paths_avoid_inadmissible_cells_and_go_around_the_wall() {
     let m = map();
-    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0).unwrap();
+    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0, None).unwrap();
     let mut dij = Dijkstra::new();
     let path = view
         .path(&mut dij, Cell::new(5, 5), Cell::new(35, 5))
@@ -48,7 +48,7 @@ fn paths_avoid_inadmissible_cells_and_go_around_the_wall() {
 #[test]
 fn the_tour_visits_one_site_per_reachable_goal_and_skips_unreachable_ones() {
     let m = map();
-    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0).unwrap();
+    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0, None).unwrap();
     let goals = vec![
         TourGoal {
             key: GoalKey::Spatial(Cell::new(35, 5)),
