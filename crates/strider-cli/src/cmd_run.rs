@@ -294,14 +294,20 @@ fn write_figures(
         mission.params().c_loss,
         mission.params().bounds.as_ref(),
     ) {
-        scalar_canvas(rect, d, scale, view.grid.costs(), Some((1.0, c_max)))
+        // The view covers the known area grown by the footprint; crop it to the known area.
+        let vr = view.rect();
+        let crop = |k: usize| vr.index(rect.cell(k));
+        let merged: Vec<f32> = (0..rect.len())
+            .map(|k| crop(k).map_or(f32::NAN, |i| view.grid.costs()[i]))
+            .collect();
+        scalar_canvas(rect, d, scale, &merged, Some((1.0, c_max)))
             .0
             .save(&out.join("merged_cost.png"))?;
         let mut g = Canvas::new(rect, d, scale);
         let obs = map.observed_raster(rect);
         g.fill(|k| {
             obs[k]
-                .then_some(view.best_gait[k])
+                .then(|| crop(k).and_then(|i| view.best_gait[i]))
                 .flatten()
                 .map(|x| palette(x as usize))
         });

@@ -14,6 +14,9 @@
 //!   terrain) and not from windows in which it turned by more than 45° (turning in place at
 //!   path corners is the path's time, not the terrain's); the stuck reflex fires only while it
 //!   is commanded to move;
+//! * at a reached spatial goal the robot turns once on the spot, so a limited field of view
+//!   sees the r_sensor disc Eq. 11 assumed; a reached spatial goal is not pursued again within
+//!   2·r_robot;
 //! * goals none of whose sites is reachable on the current planning grid are not pursued; the
 //!   exploration ends (decision 25) when no reachable goal remains after the spatial and
 //!   learning modules have both run, or at the time limit.
@@ -134,6 +137,8 @@ pub struct Mission {
     turn_sum: f64,
     /// Pose (x, y, yaw) of the last fused scan per sensor.
     keyframes: Vec<Option<(f64, f64, f64)>>,
+    /// End time of the look-around in progress.
+    looking: Option<f64>,
     /// The last Alg. 6 outcome per gait model.
     updates: Vec<ModelUpdate>,
     /// Spatial goals reached so far: goals within 2·r_robot of one are not pursued again (what
@@ -232,6 +237,7 @@ impl Mission {
             turn_sum: 0.0,
             visited: Vec::new(),
             updates: vec![ModelUpdate::default(); n],
+            looking: None,
             params,
         })
     }
@@ -424,6 +430,14 @@ impl Mission {
         state: MotionState,
     ) -> Option<Termination> {
         let here = self.anchor_cell()?;
+        // A look-around runs to its end.
+        if let Some(until) = self.looking {
+            if t < until && !state.idle && !state.blocked {
+                return None;
+            }
+            self.looking = None;
+            self.current = None;
+        }
         // A sampling manoeuvre runs to its end.
         if let Some(s) = self.sampling {
             if t < s.until && !state.idle && !state.blocked {
@@ -439,6 +453,8 @@ impl Mission {
             self.visited.push(c);
             let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
             self.spatial.retain(|g| g.cell.dist_cells(c) > r);
+            self.start_look_around(robot, t);
+            return None;
         }
         if reached && let Some((GoalKey::Cost { gait, .. }, _)) = self.current {
             // Lines 12–15: sample the reached cost goal with its gait.
@@ -513,6 +529,24 @@ impl Mission {
             self.unreachable_since = None;
         }
         None
+    }
+
+    /// At a reached spatial goal the robot turns once on the spot (four waypoints 0.75 cells
+    /// around it, a quarter turn apart): Eq. 11 counts every observable cell within r_sensor
+    /// whatever the heading, which a camera with a limited field of view only honours if it
+    /// looks around.
+    fn start_look_around<R: Robot>(&mut self, robot: &mut R, t: f64) {
+        let Some(p) = self.pose else { return };
+        let r = 0.75 * self.map.cell_size();
+        let pts: Vec<Point2> = (1..=4)
+            .map(|k| {
+                let a = p.yaw + k as f64 * std::f64::consts::FRAC_PI_2;
+                Point2::new(p.position.x + r * a.cos(), p.position.y + r * a.sin())
+            })
+            .collect();
+        robot.follow(&pts);
+        // Generous: a full turn at the slowest plausible rate, plus the short steps.
+        self.looking = Some(t + 60.0);
     }
 
     /// Decision 24: enforce `gait` and walk straight ahead (or the most open direction when
