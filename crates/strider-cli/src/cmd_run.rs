@@ -135,7 +135,24 @@ pub fn run(
         .with_context(|| format!("{}: cannot create directory", out.display()))?;
     let mut sim = Simulator::new(&sc, seed)?;
     let mut mission = Mission::new(params)?;
-    let log = mission.run(&mut sim)?.clone();
+    // Progress on stderr (hidden when stderr is not a terminal).
+    let bar = indicatif::ProgressBar::new(mission.params().time_limit_s.max(1.0) as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} exploring {pos}/{len} s simulated ({elapsed}) {msg}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+    );
+    let log = mission
+        .run_observed(&mut sim, |p| {
+            bar.set_position(p.time_s as u64);
+            bar.set_message(format!(
+                "{} cells mapped, {} spatial + {} cost goals, {} learning pairs",
+                p.observed_cells, p.spatial_goals, p.cost_goals, p.learning_set
+            ));
+        })?
+        .clone();
+    bar.finish_and_clear();
 
     // Benchmark tours on the frozen map and models, each mode in a fresh simulator standing at
     // the tour's first waypoint.
@@ -150,6 +167,13 @@ pub fn run(
         }
         let mut modes = Vec::new();
         for mode in NavigationMode::ALL {
+            let spin = indicatif::ProgressBar::new_spinner();
+            spin.set_message(format!(
+                "tour {} with {} navigation",
+                tour.name,
+                mode.name()
+            ));
+            spin.enable_steady_tick(std::time::Duration::from_millis(200));
             let mut sc2 = sc.clone();
             let yaw = (pts[1].y - pts[0].y).atan2(pts[1].x - pts[0].x);
             sc2.start = Pose2::new(pts[0].x, pts[0].y, yaw);
@@ -162,6 +186,7 @@ pub fn run(
                 &pts,
                 mode,
             )?;
+            spin.finish_and_clear();
             modes.push(r);
         }
         tours.push((tour.name.clone(), modes));

@@ -102,6 +102,23 @@ pub struct MissionLog {
     pub wall_s: f64,
 }
 
+/// A snapshot for progress displays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MissionProgress {
+    /// Robot time since the start, s.
+    pub time_s: f64,
+    /// The mission's time limit, s.
+    pub time_limit_s: f64,
+    /// Observed map cells.
+    pub observed_cells: usize,
+    /// Current spatial goals.
+    pub spatial_goals: usize,
+    /// Current cost-model goals (all gaits).
+    pub cost_goals: usize,
+    /// Learning-set sizes summed over gaits.
+    pub learning_set: usize,
+}
+
 /// The sampling manoeuvre in progress (decision 24).
 #[derive(Clone, Copy, Debug)]
 struct Sampling {
@@ -295,7 +312,18 @@ impl Mission {
 
     /// Runs Alg. 1 until every goal is cleared or the time limit.
     pub fn run<R: Robot>(&mut self, robot: &mut R) -> Result<&MissionLog, MissionError> {
+        self.run_observed(robot, |_| {})
+    }
+
+    /// [`Mission::run`], calling `progress` about once per simulated second (for a progress
+    /// display; it cannot change the mission).
+    pub fn run_observed<R: Robot>(
+        &mut self,
+        robot: &mut R,
+        mut progress: impl FnMut(&MissionProgress),
+    ) -> Result<&MissionLog, MissionError> {
         let wall = Instant::now();
+        let mut next_report = robot.now();
         let rates = self.params.rates;
         let dt = 1.0 / rates.control_hz;
         let t0 = robot.now();
@@ -340,6 +368,17 @@ impl Mission {
                 }
                 next_tour = t + 1.0 / rates.tour_hz;
                 state.idle = false;
+            }
+            if t >= next_report {
+                next_report = t + 1.0;
+                progress(&MissionProgress {
+                    time_s: t - t0,
+                    time_limit_s: self.params.time_limit_s,
+                    observed_cells: self.map.observed_count(),
+                    spatial_goals: self.spatial.len(),
+                    cost_goals: self.cost_goals.len(),
+                    learning_set: self.models.iter().map(|m| m.learning_set_len()).sum(),
+                });
             }
             let g = self.choose_gait(t);
             if g != self.gait {
