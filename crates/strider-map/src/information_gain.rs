@@ -132,6 +132,24 @@ impl GainView {
 
     /// I_model(ν) (Eq. 11).
     fn model_gain(&self, c: Cell, disc: &[(i32, i32)], reach: u32, h: f64, d: f64) -> f64 {
+        self.model_gain_with(c, disc, reach, h, d, &mut Vec::new())
+    }
+
+    /// [`GainView::model_gain`] with a reusable buffer for the unknown targets.
+    ///
+    /// The targets (unknown cells of the disc) are gathered first. When casting a ray to each
+    /// of them costs less than a pass over the disc (few targets, late in exploration), each is
+    /// cast directly; otherwise raised cells mark shadow intervals first and only targets inside
+    /// one are cast. Both give the exact Eq. 11 sum.
+    fn model_gain_with(
+        &self,
+        c: Cell,
+        disc: &[(i32, i32)],
+        reach: u32,
+        h: f64,
+        d: f64,
+        targets: &mut Vec<(i32, i32, f32)>,
+    ) -> f64 {
         let Some(ef) = self.elevation(c) else {
             return 0.0;
         };
@@ -140,6 +158,30 @@ impl GainView {
         }
         let zs = ef as f64 + h;
         let zt = target_height(None, ef);
+        targets.clear();
+        let mut ray_work = 0.0f64;
+        for &(di, dj) in disc {
+            let Some(k) = self.rect.index(c.offset(di, dj)) else {
+                continue;
+            };
+            let g = self.i_cell[k];
+            if g > 0.0 {
+                targets.push((di, dj, g));
+                ray_work += (di.abs().max(dj.abs()) + 1) as f64;
+            }
+        }
+        if targets.is_empty() {
+            return 0.0;
+        }
+        if ray_work < disc.len() as f64 {
+            return targets
+                .iter()
+                .filter(|&&(di, dj, _)| {
+                    ray_clear(c, c.offset(di, dj), zs, zt, d, |x| self.elevation(x))
+                })
+                .map(|&(_, _, g)| g as f64)
+                .sum();
+        }
         // Only known cells above min(sensor, target) = ef can block a ray to an unknown
         // target, and only over a range of target distances: the sight line to a target at
         // distance R (cells) passes a cell at centre distance r no lower than
@@ -173,15 +215,8 @@ impl GainView {
             any_tall = true;
         }
         let mut sum = 0.0;
-        for &(di, dj) in disc {
+        for &(di, dj, g) in targets.iter() {
             let t = c.offset(di, dj);
-            let Some(k) = self.rect.index(t) else {
-                continue;
-            };
-            let g = self.i_cell[k];
-            if g <= 0.0 {
-                continue;
-            }
             let maybe_blocked = any_tall && {
                 let (lo, hi) = shadow[angle_bin(di as f64, dj as f64)];
                 let rt = ((di * di + dj * dj) as f32).sqrt();
@@ -314,7 +349,9 @@ pub fn information_gain(
     let r = disc_reach(p.r_sensor, d);
     let gains: Vec<f64> = candidates
         .par_iter()
-        .map(|&c| view.model_gain(c, &disc, r, p.sensor_height, d))
+        .map_init(Vec::new, |buf, &c| {
+            view.model_gain_with(c, &disc, r, p.sensor_height, d, buf)
+        })
         .collect();
     InfoGain {
         candidates: candidates.len(),
