@@ -16,9 +16,9 @@ use crate::planner::{CostMode, PlanningView, waypoints};
 use serde::Serialize;
 use strider_core::grid::CellRay;
 use strider_core::interface::{Robot, SensorSink};
-use strider_core::{Cell, GaitId, Point2, PoseStamped};
+use strider_core::{Cell, Point2, PoseStamped};
 use strider_learn::cost_model::GaitCostModel;
-use strider_learn::signals::{FallbackTimer, InverseVelocityCost, InverseVelocityParams};
+use strider_learn::signals::{FallbackTimer, InverseVelocityCost};
 use strider_map::ElevationMap;
 use strider_plan::grid::Dijkstra;
 
@@ -150,14 +150,8 @@ pub fn run_tour<R: Robot>(
     tour: &[Point2],
     mode: NavigationMode,
 ) -> Result<TourResult, MissionError> {
-    let v_max = params.v_max();
-    let signal = InverseVelocityCost::new(InverseVelocityParams::new(
-        params.window_s,
-        vec![v_max; params.gaits.len()],
-        params.c_high,
-        params.cost_model.c_max,
-    ))
-    .map_err(|e| MissionError::Params(e.to_string()))?;
+    let signal = InverseVelocityCost::new(params.inverse_velocity())
+        .map_err(|e| MissionError::Params(e.to_string()))?;
     let mut fallback =
         FallbackTimer::new(params.dt_fallback).map_err(|e| MissionError::Params(e.to_string()))?;
     let mut sink = TourSink {
@@ -186,16 +180,7 @@ pub fn run_tour<R: Robot>(
         NavigationMode::GaitSelection => (flat.as_ref(), learned.as_ref()),
         NavigationMode::Learned => (learned.as_ref(), learned.as_ref()),
     };
-    let fastest = GaitId(
-        (0..params.gaits.len())
-            .max_by(|&a, &b| {
-                params.gaits[a]
-                    .v_max
-                    .total_cmp(&params.gaits[b].v_max)
-                    .then(b.cmp(&a))
-            })
-            .unwrap_or(0) as u8,
-    );
+    let fastest = params.fastest_gait();
     let rough = params.rough_gait();
     let d = map.cell_size();
     let r_robot = map.params().r_robot;

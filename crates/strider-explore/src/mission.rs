@@ -30,7 +30,7 @@ use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{Cell, GaitId, Point2, PointCloud, PoseStamped};
 use strider_learn::cost_model::{CostGoal, GaitCostModel, ModelUpdate};
 use strider_learn::descriptor_field::DescriptorField;
-use strider_learn::signals::{FallbackTimer, InverseVelocityCost, InverseVelocityParams};
+use strider_learn::signals::{FallbackTimer, InverseVelocityCost};
 use strider_map::descriptors::{TA_BINS, color_histograms};
 use strider_map::reachability::Reachability;
 use strider_map::{ElevationMap, SpatialGoal, cluster_information, information_gain};
@@ -170,15 +170,8 @@ impl Mission {
         if params.gaits.is_empty() || params.gaits.len() > u8::MAX as usize {
             return Err(MissionError::Params("the robot needs 1–255 gaits".into()));
         }
-        let v_max = params.v_max();
-        let sig = InverseVelocityParams::new(
-            params.window_s,
-            vec![v_max; params.gaits.len()],
-            params.c_high,
-            params.cost_model.c_max,
-        );
-        let signal =
-            InverseVelocityCost::new(sig).map_err(|e| MissionError::Params(e.to_string()))?;
+        let signal = InverseVelocityCost::new(params.inverse_velocity())
+            .map_err(|e| MissionError::Params(e.to_string()))?;
         let fallback = FallbackTimer::new(params.dt_fallback)
             .map_err(|e| MissionError::Params(e.to_string()))?;
         let models = (0..params.gaits.len())
@@ -194,14 +187,7 @@ impl Mission {
             .collect::<Result<Vec<_>, _>>()?;
         let n = params.gaits.len();
         // Start with the fastest gait.
-        let fastest = (0..n)
-            .max_by(|&a, &b| {
-                params.gaits[a]
-                    .v_max
-                    .total_cmp(&params.gaits[b].v_max)
-                    .then(b.cmp(&a))
-            })
-            .unwrap_or(0);
+        let fastest = params.fastest_gait();
         // Decision 5 allows a stride lattice for Eq. 11: candidates every ~0.2 m, each standing
         // for stride² cells in Alg. 3's minimum cluster size.
         let mut map_params = params.map.clone();
@@ -226,7 +212,7 @@ impl Mission {
             current: None,
             goal_keys: Vec::new(),
             sampling: None,
-            gait: GaitId(fastest as u8),
+            gait: fastest,
             pose: None,
             moving: false,
             learned_once: false,
@@ -639,22 +625,13 @@ impl Mission {
         }
         if self.params.strategy == Strategy::SpatialOnly {
             // Reactive: the fastest gait unless stuck.
-            return self.fastest();
+            return self.params.fastest_gait();
         }
         let Some(here) = self.anchor_cell() else {
             return self.gait;
         };
         let view = self.gait_view(here);
         view.unwrap_or(self.gait)
-    }
-
-    fn fastest(&self) -> GaitId {
-        let g = &self.params.gaits;
-        GaitId(
-            (0..g.len())
-                .max_by(|&a, &b| g[a].v_max.total_cmp(&g[b].v_max).then(b.cmp(&a)))
-                .unwrap_or(0) as u8,
-        )
     }
 
     /// Argmin over gaits of the footprint max of ĉ_{C^g} around `here` (Alg. 4 line 6), read

@@ -7,6 +7,7 @@
 use serde::{Deserialize, Serialize};
 use strider_core::GaitId;
 use strider_learn::cost_model::CostModelParams;
+use strider_learn::signals::InverseVelocityParams;
 use strider_map::params::MapParams;
 use strider_map::rect::WorldRect;
 
@@ -118,6 +119,27 @@ impl MissionParams {
             }
         }
         GaitId(best as u8)
+    }
+
+    /// The fastest gait (ties: the lowest index): the start gait and the reactive gait.
+    pub fn fastest_gait(&self) -> GaitId {
+        let g = &self.gaits;
+        GaitId(
+            (0..g.len())
+                .max_by(|&a, &b| g[a].v_max.total_cmp(&g[b].v_max).then(b.cmp(&a)))
+                .unwrap_or(0) as u8,
+        )
+    }
+
+    /// Parameters of the inverse-velocity cost signal (Eq. 19–20): every gait is scaled by the
+    /// v_max over all gaits, so costs are comparable across gaits for Eq. 13.
+    pub fn inverse_velocity(&self) -> InverseVelocityParams {
+        InverseVelocityParams::new(
+            self.window_s,
+            vec![self.v_max(); self.gaits.len()],
+            self.c_high,
+            self.cost_model.c_max,
+        )
     }
 
     /// v_max over all gaits (Eq. 20 scales costs by it).
