@@ -34,7 +34,7 @@ use strider_learn::signals::{FallbackTimer, InverseVelocityCost};
 use strider_map::descriptors::{TA_BINS, color_histograms};
 use strider_map::reachability::Reachability;
 use strider_map::{ElevationMap, SpatialGoal, cluster_information, information_gain};
-use strider_plan::grid::Dijkstra;
+use strider_plan::grid::{Dijkstra, transform};
 
 /// Cost windows in which the heading changed by more than this (summed |Δyaw|, rad) measure
 /// the path's turns rather than the terrain and are not stored.
@@ -154,6 +154,10 @@ pub struct Mission {
     turn_sum: f64,
     /// Pose (x, y, yaw) of the last fused scan per sensor.
     keyframes: Vec<Option<(f64, f64, f64)>>,
+    /// The latest planning view (per-gait grids for Alg. 4, the merged grid for paths).
+    view: Option<PlanningView>,
+    /// Footprint offsets δ(r_robot) for the gait choice.
+    footprint: Vec<(i32, i32)>,
     /// End time of the look-around in progress.
     looking: Option<f64>,
     /// The last Alg. 6 outcome per gait model.
@@ -241,6 +245,8 @@ impl Mission {
             visited: Vec::new(),
             updates: vec![ModelUpdate::default(); n],
             looking: None,
+            view: None,
+            footprint: strider_core::grid::disc_offsets(params.map.r_robot, params.map.cell_size),
             params,
         })
     }
@@ -418,6 +424,16 @@ impl Mission {
             }
         }
         self.learned_once = true;
+        // The costs changed: refresh the view the gait choice reads.
+        if self.params.strategy != Strategy::SpatialOnly {
+            self.view = PlanningView::build(
+                &self.map,
+                &self.models,
+                CostMode::Learned,
+                self.params.c_loss,
+                self.params.bounds.as_ref(),
+            );
+        }
         self.log
             .goal_identification_ms
             .push(w.elapsed().as_secs_f64() * 1e3);
@@ -510,13 +526,14 @@ impl Mission {
             CostMode::Learned
         };
         self.map.update_passability();
-        let view = PlanningView::build(
+        self.view = PlanningView::build(
             &self.map,
             &self.models,
             mode,
             self.params.c_loss,
             self.params.bounds.as_ref(),
         );
+        let view = self.view.take();
         let tour = view.as_ref().and_then(|v| {
             plan_tour(
                 v,
@@ -537,6 +554,7 @@ impl Mission {
                 }
             }
         }
+        self.view = view;
         self.log.replan_ms.push(w.elapsed().as_secs_f64() * 1e3);
         if !path_found {
             self.current = None;
@@ -630,39 +648,12 @@ impl Mission {
         let Some(here) = self.anchor_cell() else {
             return self.gait;
         };
-        let view = self.gait_view(here);
-        view.unwrap_or(self.gait)
-    }
-
-    /// Argmin over gaits of the footprint max of ĉ_{C^g} around `here` (Alg. 4 line 6), read
-    /// straight from the models' planning costs.
-    fn gait_view(&self, here: Cell) -> Option<GaitId> {
-        let r = self.map.params().r_robot;
-        let d = self.map.cell_size();
-        let reach = (r / d).ceil() as i32;
-        let rect = strider_core::CellRect::new(
-            Cell::new(here.i - reach, here.j - reach),
-            (2 * reach + 1) as u32,
-            (2 * reach + 1) as u32,
-        );
-        let disc = strider_core::grid::disc_offsets(r, d);
-        let mut best: Option<(f32, usize)> = None;
-        for (g, m) in self.models.iter().enumerate() {
-            let costs = m.planning_costs(rect);
-            let mut worst = 0.0f32;
-            for &(di, dj) in &disc {
-                let c = Cell::new(here.i + di, here.j + dj);
-                if let Some(k) = rect.index(c)
-                    && self.map.is_observed(c)
-                {
-                    worst = worst.max(costs[k]);
-                }
-            }
-            if best.is_none_or(|(b, _)| worst < b) {
-                best = Some((worst, g));
-            }
-        }
-        best.map(|(_, g)| GaitId(g as u8))
+        // Alg. 4 line 6 on the per-gait grids of the latest planning view (rebuilt at every
+        // replan and learning update); keep the gait where no gait's footprint is admissible.
+        self.view
+            .as_ref()
+            .and_then(|v| transform::choose_gait_with(&v.per_gait, here, &self.footprint))
+            .map_or(self.gait, |(g, _)| GaitId(g as u8))
     }
 }
 
