@@ -252,6 +252,7 @@ pub fn run(
         "tours": tours_json,
         "stuck_events": log.stuck_events,
         "turn_skipped_cost_samples": log.turn_skipped,
+        "information_gain_evaluations": {"fresh": log.gain_evaluated, "incremental": log.gain_updated},
         "replans": log.replan_ms.len(),
         "replan_latency_ms": {"median": rep_med, "max": rep_max},
         "goal_identification_ms": {"median": gid_med, "max": gid_max},

@@ -32,13 +32,19 @@ use strider_learn::cost_model::{CostGoal, GaitCostModel, ModelUpdate};
 use strider_learn::descriptor_field::DescriptorField;
 use strider_learn::signals::{FallbackTimer, InverseVelocityCost};
 use strider_map::descriptors::{TA_BINS, color_histograms};
+use strider_map::information_gain::GainCache;
 use strider_map::reachability::Reachability;
-use strider_map::{ElevationMap, SpatialGoal, cluster_information, information_gain};
+use strider_map::{ElevationMap, SpatialGoal, cluster_information};
 use strider_plan::grid::{Dijkstra, transform};
 
 /// Cost windows in which the heading changed by more than this (summed |Δyaw|, rad) measure
 /// the path's turns rather than the terrain and are not stored.
 const MAX_TURN_IN_WINDOW: f64 = std::f64::consts::FRAC_PI_4;
+
+/// Elevation hysteresis of the incremental Eq. 11 ([`GainCache`]), metres: the order of the
+/// depth noise, so that the Kalman refinement of ground already seen does not re-evaluate the
+/// gain of every candidate within r_sensor of the sensor footprint at each spatial update.
+const GAIN_DZ: f64 = 0.01;
 
 /// Why a mission stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -100,6 +106,10 @@ pub struct MissionLog {
     pub turn_skipped: usize,
     /// Wall time of the mission, s.
     pub wall_s: f64,
+    /// Eq. 11 sums evaluated afresh over all spatial updates.
+    pub gain_evaluated: usize,
+    /// Eq. 11 sums updated incrementally from nearby map changes over all spatial updates.
+    pub gain_updated: usize,
 }
 
 /// A snapshot for progress displays.
@@ -166,6 +176,8 @@ pub struct Mission {
     /// could not be seen from there, e.g. the sensor's blind zone around the robot, will not be
     /// seen by returning).
     visited: Vec<Cell>,
+    /// Eq. 11 kept between spatial updates.
+    gain: GainCache,
 }
 
 impl Mission {
@@ -233,6 +245,8 @@ impl Mission {
                 stuck_events: 0,
                 turn_skipped: 0,
                 wall_s: 0.0,
+                gain_evaluated: 0,
+                gain_updated: 0,
             },
             last_pos: None,
             poses_seen: 0,
@@ -243,6 +257,7 @@ impl Mission {
             ),
             turn_sum: 0.0,
             visited: Vec::new(),
+            gain: GainCache::new(GAIN_DZ),
             updates: vec![ModelUpdate::default(); n],
             looking: None,
             view: None,
@@ -392,7 +407,9 @@ impl Mission {
         if let Some(c) = self.anchor_cell() {
             let reach = Reachability::compute(&self.map, c);
             let bounds = self.params.bounds;
-            let gain = information_gain(&self.map, &reach, bounds.as_ref());
+            let gain = self.gain.compute(&self.map, &reach, bounds.as_ref());
+            self.log.gain_evaluated += self.gain.last_evaluated();
+            self.log.gain_updated += self.gain.last_updated();
             self.spatial = cluster_information(&self.map, &gain, &reach, bounds.as_ref());
             let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
             let visited = &self.visited;

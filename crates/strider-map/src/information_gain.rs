@@ -48,27 +48,225 @@ impl InfoGain {
     }
 }
 
-/// A dense view of the map for Eq. 10–11: elevations (NaN = unknown), I_cell of every unknown
-/// cell (0 for known cells and cells outside the bounds) and a summed-area table of the unknown
-/// mask.
+/// The sensor disc δ(r_sensor) with what Eq. 11 needs per offset, computed once: the distance,
+/// the shadow-mask direction bin of a target there and the bins a raised cell there subtends,
+/// plus two indexes (offset → entry, direction bin → entries by distance).
+struct DiscTable {
+    entries: Vec<DiscEntry>,
+    /// Chebyshev radius of the disc, cells.
+    reach: u32,
+    /// Entry index per offset of the (2·reach + 1)² square, `u32::MAX` outside the disc.
+    lookup: Vec<u32>,
+    /// `by_bin[by_bin_start[b]..by_bin_start[b + 1]]`: the entries (centre excluded) whose
+    /// direction bin is b, by increasing distance.
+    by_bin_start: Vec<u32>,
+    by_bin: Vec<u32>,
+}
+
+#[derive(Clone, Copy)]
+struct DiscEntry {
+    di: i32,
+    dj: i32,
+    /// Centre distance, cells.
+    r: f32,
+    /// Direction bin of a target at this offset.
+    bin: u16,
+    /// Bins subtended by a cell at this offset (its four corners, one bin of margin on each
+    /// side against rounding), as up to two inclusive ranges (two when they wrap around the
+    /// +x axis); none for the centre.
+    spans: [(u16, u16); 2],
+    n_spans: u8,
+}
+
+impl DiscEntry {
+    fn spans(&self) -> &[(u16, u16)] {
+        &self.spans[..self.n_spans as usize]
+    }
+}
+
+impl DiscTable {
+    fn new(r_sensor: f64, d: f64) -> Self {
+        let offsets = disc_offsets(r_sensor, d);
+        let reach = offsets
+            .iter()
+            .map(|&(di, dj)| di.unsigned_abs().max(dj.unsigned_abs()))
+            .max()
+            .unwrap_or(0);
+        let entries: Vec<DiscEntry> = offsets
+            .into_iter()
+            .map(|(di, dj)| Self::entry(di, dj))
+            .collect();
+        let side = 2 * reach as usize + 1;
+        let mut lookup = vec![u32::MAX; side * side];
+        for (k, e) in entries.iter().enumerate() {
+            let idx = (e.dj + reach as i32) as usize * side + (e.di + reach as i32) as usize;
+            lookup[idx] = k as u32;
+        }
+        let mut order: Vec<u32> = (0..entries.len() as u32)
+            .filter(|&k| entries[k as usize].n_spans > 0)
+            .collect();
+        order.sort_by(|&a, &b| {
+            let (ea, eb) = (&entries[a as usize], &entries[b as usize]);
+            ea.bin.cmp(&eb.bin).then(ea.r.total_cmp(&eb.r))
+        });
+        let mut by_bin_start = vec![0u32; ANGLE_BINS + 1];
+        for &k in &order {
+            by_bin_start[entries[k as usize].bin as usize + 1] += 1;
+        }
+        for b in 0..ANGLE_BINS {
+            by_bin_start[b + 1] += by_bin_start[b];
+        }
+        Self {
+            entries,
+            reach,
+            lookup,
+            by_bin_start,
+            by_bin: order,
+        }
+    }
+
+    fn entry(di: i32, dj: i32) -> DiscEntry {
+        let (x, y) = (di as f64, dj as f64);
+        let mut e = DiscEntry {
+            di,
+            dj,
+            r: ((di * di + dj * dj) as f64).sqrt() as f32,
+            bin: 0,
+            spans: [(0, 0); 2],
+            n_spans: 0,
+        };
+        if (di, dj) == (0, 0) {
+            return e;
+        }
+        e.bin = angle_bin(x, y) as u16;
+        let n = ANGLE_BINS as i64;
+        let bins = [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)]
+            .map(|(ox, oy)| angle_bin(x + ox, y + oy) as i64);
+        let lo = bins.iter().copied().min().unwrap_or(0);
+        let hi = bins.iter().copied().max().unwrap_or(0);
+        if hi - lo > n / 2 {
+            // The cell straddles direction 0 (the +x axis): the bins just below n and just
+            // above 0, each with its margin (lo_w − 1 ≥ n/2 − 1, hi_w + 1 ≤ n/2).
+            let lo_w = bins
+                .iter()
+                .copied()
+                .filter(|&b| b >= n / 2)
+                .min()
+                .unwrap_or(n);
+            let hi_w = bins
+                .iter()
+                .copied()
+                .filter(|&b| b < n / 2)
+                .max()
+                .unwrap_or(0);
+            e.spans = [((lo_w - 1) as u16, (n - 1) as u16), (0, (hi_w + 1) as u16)];
+            e.n_spans = 2;
+        } else {
+            // One bin of margin on each side, wrapping around direction 0.
+            let (a, b) = (lo - 1, hi + 1);
+            (e.spans, e.n_spans) = if a < 0 {
+                ([(0, b as u16), ((a + n) as u16, (n - 1) as u16)], 2)
+            } else if b >= n {
+                ([(a as u16, (n - 1) as u16), (0, (b - n) as u16)], 2)
+            } else {
+                ([(a as u16, b as u16), (0, 0)], 1)
+            };
+        }
+        e
+    }
+
+    /// The entry at offset `(di, dj)`, if it lies in the disc.
+    #[inline]
+    fn entry_of(&self, di: i32, dj: i32) -> Option<usize> {
+        let r = self.reach as i32;
+        if di.abs() > r || dj.abs() > r {
+            return None;
+        }
+        let side = 2 * r + 1;
+        let k = self.lookup[((dj + r) * side + di + r) as usize];
+        (k != u32::MAX).then_some(k as usize)
+    }
+}
+
+/// Half the diagonal of a cell, in cells.
+const HALF_DIAG: f32 = std::f32::consts::FRAC_1_SQRT_2;
+
+/// The target distances (cells) a known cell of elevation `e` at centre distance `r` can shadow
+/// from a sensor at `zs` looking at unknown targets at `zt` (< zs): the sight line to a target
+/// at distance R passes the cell no lower than zs − (zs − zt)·(r + ½√2)/R, so only targets with
+/// R < (zs − zt)·(r + ½√2)/(zs − e) can be hidden, and none nearer than the cell's near side.
+#[inline]
+fn shadow_interval(r: f32, e: f32, zs: f64, zt: f64) -> (f32, f32) {
+    let start = r - HALF_DIAG;
+    let end = if (e as f64) < zs {
+        ((zs - zt) * ((r + HALF_DIAG) as f64) / (zs - e as f64)) as f32
+    } else {
+        f32::INFINITY
+    };
+    (start, end)
+}
+
+/// Elevation of `c` in a dense raster over `rect` (NaN = unknown).
+#[inline]
+fn elevation_in(elev: &[f32], rect: CellRect, c: Cell) -> Option<f32> {
+    rect.index(c).map(|k| elev[k]).filter(|e| !e.is_nan())
+}
+
+/// Per-thread scratch space of Eq. 11.
+#[derive(Default)]
+struct Scratch {
+    /// Unknown targets of the disc: (entry index, 9·I_cell).
+    targets: Vec<(u32, u8)>,
+    /// Disc entries already visited by a delta update (== `stamp`).
+    seen: Vec<u32>,
+    stamp: u32,
+}
+
+impl Scratch {
+    fn next_stamp(&mut self, n: usize) {
+        if self.seen.len() != n || self.stamp == u32::MAX {
+            self.seen.clear();
+            self.seen.resize(n, 0);
+            self.stamp = 0;
+        }
+        self.stamp += 1;
+    }
+}
+
+/// A dense view of the map for Eq. 10–11: elevations (NaN = unknown), 9·I_cell of every
+/// unknown cell (k + 1 ∈ 1..=9; 0 for known cells and cells outside the bounds) and a
+/// summed-area table of the unknown mask. I_cell is kept as the integer k + 1 so that sums are
+/// exact and a delta update gives bit-for-bit the sum a fresh evaluation gives.
 struct GainView {
     rect: CellRect,
     elev: Vec<f32>,
-    i_cell: Vec<f32>,
+    icount: Vec<u8>,
     sat: Vec<u32>,
 }
 
 impl GainView {
     fn new(map: &ElevationMap, rect: CellRect, bounds: Option<&WorldRect>) -> Self {
-        let d = map.cell_size();
-        let elev = map.elevation_raster(rect);
+        let mut v = Self {
+            rect,
+            elev: map.elevation_raster(rect),
+            icount: Vec::new(),
+            sat: Vec::new(),
+        };
+        v.derive(bounds, map.cell_size());
+        v
+    }
+
+    /// Recomputes 9·I_cell (Eq. 10) and the summed-area table from the elevations.
+    fn derive(&mut self, bounds: Option<&WorldRect>, d: f64) {
+        let rect = self.rect;
         let (w, h) = (rect.width as usize, rect.height as usize);
         let unknown: Vec<bool> = rect
             .cells()
-            .zip(&elev)
+            .zip(&self.elev)
             .map(|(c, e)| e.is_nan() && in_bounds(bounds, c, d))
             .collect();
-        let mut i_cell = vec![0.0f32; rect.len()];
+        self.icount.clear();
+        self.icount.resize(rect.len(), 0);
         for y in 0..h {
             for x in 0..w {
                 if !unknown[y * w + x] {
@@ -86,151 +284,242 @@ impl GainView {
                         }
                     })
                     .count();
-                i_cell[y * w + x] = (k as f32 + 1.0) / 9.0; // Eq. 10
+                self.icount[y * w + x] = k as u8 + 1; // Eq. 10, times 9
             }
         }
-        let mut sat = vec![0u32; (w + 1) * (h + 1)];
-        for y in 0..h {
-            let mut row = 0;
-            for x in 0..w {
-                row += unknown[y * w + x] as u32;
-                sat[(y + 1) * (w + 1) + x + 1] = sat[y * (w + 1) + x + 1] + row;
-            }
-        }
-        Self {
-            rect,
-            elev,
-            i_cell,
-            sat,
-        }
+        self.sat = summed_area(&unknown, w, h);
     }
 
     #[inline]
     fn elevation(&self, c: Cell) -> Option<f32> {
-        self.rect
-            .index(c)
-            .map(|k| self.elev[k])
-            .filter(|e| !e.is_nan())
+        elevation_in(&self.elev, self.rect, c)
     }
 
     /// Number of unknown cells in the square of half-size `n` around `c` (clipped to the view).
     fn unknown_in_square(&self, c: Cell, n: u32) -> u32 {
-        let w = self.rect.width as i64;
-        let h = self.rect.height as i64;
-        let (x, y) = (
-            (c.i - self.rect.min.i) as i64,
-            (c.j - self.rect.min.j) as i64,
-        );
-        let (x0, y0) = ((x - n as i64).clamp(0, w), (y - n as i64).clamp(0, h));
-        let (x1, y1) = (
-            (x + n as i64 + 1).clamp(0, w),
-            (y + n as i64 + 1).clamp(0, h),
-        );
-        let at = |xx: i64, yy: i64| self.sat[(yy * (w + 1) + xx) as usize];
-        at(x1, y1) + at(x0, y0) - at(x0, y1) - at(x1, y0)
+        square_count(&self.sat, self.rect, c, n)
     }
 
-    /// I_model(ν) (Eq. 11).
-    fn model_gain(&self, c: Cell, disc: &[(i32, i32)], reach: u32, h: f64, d: f64) -> f64 {
-        self.model_gain_with(c, disc, reach, h, d, &mut Vec::new())
+    /// 9·I_model(ν) (Eq. 11).
+    fn model_count(&self, c: Cell, disc: &DiscTable, h: f64, d: f64) -> u32 {
+        self.model_count_with(c, disc, h, d, &mut Scratch::default())
     }
 
-    /// [`GainView::model_gain`] with a reusable buffer for the unknown targets.
+    /// [`GainView::model_count`] with reusable scratch space.
     ///
     /// The targets (unknown cells of the disc) are gathered first. When casting a ray to each
     /// of them costs less than a pass over the disc (few targets, late in exploration), each is
     /// cast directly; otherwise raised cells mark shadow intervals first and only targets inside
     /// one are cast. Both give the exact Eq. 11 sum.
-    fn model_gain_with(
+    fn model_count_with(
         &self,
         c: Cell,
-        disc: &[(i32, i32)],
-        reach: u32,
+        disc: &DiscTable,
         h: f64,
         d: f64,
-        targets: &mut Vec<(i32, i32, f32)>,
-    ) -> f64 {
+        scratch: &mut Scratch,
+    ) -> u32 {
         let Some(ef) = self.elevation(c) else {
-            return 0.0;
+            return 0;
         };
-        if self.unknown_in_square(c, reach) == 0 {
-            return 0.0;
+        if self.unknown_in_square(c, disc.reach) == 0 {
+            return 0;
         }
         let zs = ef as f64 + h;
         let zt = target_height(None, ef);
+        let targets = &mut scratch.targets;
         targets.clear();
-        let mut ray_work = 0.0f64;
-        for &(di, dj) in disc {
-            let Some(k) = self.rect.index(c.offset(di, dj)) else {
+        let mut ray_work = 0usize;
+        for (k, e) in disc.entries.iter().enumerate() {
+            let Some(idx) = self.rect.index(c.offset(e.di, e.dj)) else {
                 continue;
             };
-            let g = self.i_cell[k];
-            if g > 0.0 {
-                targets.push((di, dj, g));
-                ray_work += (di.abs().max(dj.abs()) + 1) as f64;
+            let g = self.icount[idx];
+            if g > 0 {
+                targets.push((k as u32, g));
+                ray_work += (e.di.unsigned_abs().max(e.dj.unsigned_abs()) + 1) as usize;
             }
         }
         if targets.is_empty() {
-            return 0.0;
+            return 0;
         }
-        if ray_work < disc.len() as f64 {
+        let elev = |x: Cell| self.elevation(x);
+        if ray_work < disc.entries.len() {
             return targets
                 .iter()
-                .filter(|&&(di, dj, _)| {
-                    ray_clear(c, c.offset(di, dj), zs, zt, d, |x| self.elevation(x))
+                .filter(|&&(k, _)| {
+                    let e = disc.entries[k as usize];
+                    ray_clear(c, c.offset(e.di, e.dj), zs, zt, d, elev)
                 })
-                .map(|&(_, _, g)| g as f64)
+                .map(|&(_, g)| g as u32)
                 .sum();
         }
         // Only known cells above min(sensor, target) = ef can block a ray to an unknown
-        // target, and only over a range of target distances: the sight line to a target at
-        // distance R (cells) passes a cell at centre distance r no lower than
-        // zs − (zs − zt)·(r + ½√2)/R, so a cell of elevation e < zs can block only targets with
-        // R < (zs − zt)·(r + ½√2)/(zs − e), and none nearer than its near side r − ½√2. Each
-        // such cell marks the direction bins it subtends with that distance interval (kept as
-        // the hull per bin); targets outside every interval of their direction are clear
-        // without casting (exact: a ray meets a cell only within its angular extent, and a
-        // slightly raised cell shadows only the targets just behind it).
-        const HALF_DIAG: f64 = std::f64::consts::FRAC_1_SQRT_2;
+        // target, and only over their shadow interval of target distances. Each such cell
+        // marks the direction bins it subtends with that interval (kept as the hull per bin);
+        // targets outside every interval of their direction are clear without casting (exact:
+        // a ray meets a cell only within its angular extent, and a slightly raised cell
+        // shadows only the targets just behind it).
         let mut shadow = [(f32::INFINITY, f32::NEG_INFINITY); ANGLE_BINS];
         let mut any_tall = false;
-        for &(di, dj) in disc {
-            if (di, dj) == (0, 0) {
+        for e in &disc.entries[..] {
+            if e.n_spans == 0 {
                 continue;
             }
-            let Some(e) = self.elevation(c.offset(di, dj)) else {
+            let Some(idx) = self.rect.index(c.offset(e.di, e.dj)) else {
                 continue;
             };
-            if e <= ef {
+            let z = self.elev[idx];
+            // Unknown (NaN) cells are transparent; cells not above ef cannot block.
+            if z.is_nan() || z <= ef {
                 continue;
             }
-            let r = ((di * di + dj * dj) as f64).sqrt();
-            let start = (r - HALF_DIAG) as f32;
-            let end = if (e as f64) < zs {
-                ((zs - zt) * (r + HALF_DIAG) / (zs - e as f64)) as f32
-            } else {
-                f32::INFINITY
-            };
-            mark_cell_directions(&mut shadow, di, dj, start, end);
+            let (start, end) = shadow_interval(e.r, z, zs, zt);
+            for &(a, b) in e.spans() {
+                for m in &mut shadow[a as usize..=b as usize] {
+                    m.0 = m.0.min(start);
+                    m.1 = m.1.max(end);
+                }
+            }
             any_tall = true;
         }
-        let mut sum = 0.0;
-        for &(di, dj, g) in targets.iter() {
-            let t = c.offset(di, dj);
+        let mut sum = 0u32;
+        for &(k, g) in targets.iter() {
+            let e = disc.entries[k as usize];
             let maybe_blocked = any_tall && {
-                let (lo, hi) = shadow[angle_bin(di as f64, dj as f64)];
-                let rt = ((di * di + dj * dj) as f32).sqrt();
-                rt >= lo && rt <= hi
+                let (lo, hi) = shadow[e.bin as usize];
+                e.r >= lo && e.r <= hi
             };
-            if !maybe_blocked || ray_clear(c, t, zs, zt, d, |x| self.elevation(x)) {
-                sum += g as f64;
+            if !maybe_blocked || ray_clear(c, c.offset(e.di, e.dj), zs, zt, d, elev) {
+                sum += g as u32;
             }
         }
         sum
     }
+
+    /// The change of 9·I_model at candidate `c` from the view `old` (same rectangle) to this
+    /// one, given the cells that differ between them (`changed`; `c` not among them).
+    ///
+    /// A target's term I_cell(t)·observable(c, t) can change only if (a) I_cell(t) changed,
+    /// i.e. t is a changed cell or one of its 8-neighbours, or (b) a changed cell on the ray
+    /// could block in either view, i.e. rises above ef in one of them; the targets it can
+    /// shadow lie in its direction bins within its shadow interval (computed with the higher
+    /// of its two elevations, which covers both views). Each such target is visited once and
+    /// its term re-evaluated in both views.
+    #[allow(clippy::too_many_arguments)]
+    fn delta_count(
+        &self,
+        old: &OldView,
+        c: Cell,
+        changed: &[Cell],
+        disc: &DiscTable,
+        h: f64,
+        d: f64,
+        scratch: &mut Scratch,
+    ) -> i64 {
+        let Some(ef) = self.elevation(c) else {
+            return 0;
+        };
+        let zs = ef as f64 + h;
+        let zt = target_height(None, ef);
+        scratch.next_stamp(disc.entries.len());
+        let reach = disc.reach as i32 + 1;
+        let mut delta = 0i64;
+        let mut visit = |k: usize, scratch: &mut Scratch| {
+            if scratch.seen[k] == scratch.stamp {
+                return;
+            }
+            scratch.seen[k] = scratch.stamp;
+            let e = disc.entries[k];
+            let t = c.offset(e.di, e.dj);
+            let Some(idx) = self.rect.index(t) else {
+                return;
+            };
+            let (g1, g0) = (self.icount[idx], old.icount[idx]);
+            if g1 > 0 && ray_clear(c, t, zs, zt, d, |x| self.elevation(x)) {
+                delta += g1 as i64;
+            }
+            if g0 > 0 && ray_clear(c, t, zs, zt, d, |x| elevation_in(old.elev, self.rect, x)) {
+                delta -= g0 as i64;
+            }
+        };
+        for &x in changed {
+            let (dx, dy) = (x.i - c.i, x.j - c.j);
+            if dx.abs() > reach || dy.abs() > reach {
+                continue;
+            }
+            // (a) I_cell changed at x and its neighbours.
+            for oy in -1..=1 {
+                for ox in -1..=1 {
+                    if let Some(k) = disc.entry_of(dx + ox, dy + oy) {
+                        visit(k, scratch);
+                    }
+                }
+            }
+            // (b) x may block (or have blocked) sight lines behind it.
+            let Some(kx) = disc.entry_of(dx, dy) else {
+                continue;
+            };
+            let ex = disc.entries[kx];
+            let e_new = self.elevation(x).filter(|&z| z > ef);
+            let e_old = elevation_in(old.elev, self.rect, x).filter(|&z| z > ef);
+            let Some(z) = e_new.into_iter().chain(e_old).reduce(f32::max) else {
+                continue;
+            };
+            let (start, end) = shadow_interval(ex.r, z, zs, zt);
+            for &(a, b) in ex.spans() {
+                for bin in a as usize..=b as usize {
+                    let group = &disc.by_bin
+                        [disc.by_bin_start[bin] as usize..disc.by_bin_start[bin + 1] as usize];
+                    let from = group.partition_point(|&k| disc.entries[k as usize].r < start);
+                    for &k in &group[from..] {
+                        if disc.entries[k as usize].r > end {
+                            break;
+                        }
+                        visit(k as usize, scratch);
+                    }
+                }
+            }
+        }
+        delta
+    }
 }
 
-/// Direction bins of the shadow mask in [`GainView::model_gain`].
+/// The previous state of a [`GainView`] during an incremental update.
+struct OldView<'a> {
+    elev: &'a [f32],
+    icount: &'a [u8],
+}
+
+/// Summed-area table ((w + 1) × (h + 1)) of a row-major mask.
+fn summed_area(mask: &[bool], w: usize, h: usize) -> Vec<u32> {
+    let mut sat = vec![0u32; (w + 1) * (h + 1)];
+    for y in 0..h {
+        let mut row = 0;
+        for x in 0..w {
+            row += mask[y * w + x] as u32;
+            sat[(y + 1) * (w + 1) + x + 1] = sat[y * (w + 1) + x + 1] + row;
+        }
+    }
+    sat
+}
+
+/// Number of set cells of the mask behind `sat` (over `rect`) in the square of half-size `n`
+/// around `c`, clipped to `rect`.
+fn square_count(sat: &[u32], rect: CellRect, c: Cell, n: u32) -> u32 {
+    let w = rect.width as i64;
+    let h = rect.height as i64;
+    let (x, y) = ((c.i - rect.min.i) as i64, (c.j - rect.min.j) as i64);
+    let (x0, y0) = ((x - n as i64).clamp(0, w), (y - n as i64).clamp(0, h));
+    let (x1, y1) = (
+        (x + n as i64 + 1).clamp(0, w),
+        (y + n as i64 + 1).clamp(0, h),
+    );
+    let at = |xx: i64, yy: i64| sat[(yy * (w + 1) + xx) as usize];
+    at(x1, y1) + at(x0, y0) - at(x0, y1) - at(x1, y0)
+}
+
+/// Direction bins of the shadow mask in [`GainView::model_count`].
 const ANGLE_BINS: usize = 2048;
 
 /// Pseudo-angle of the direction (x, y) ≠ 0 in [0, 4): monotone in atan2, no trigonometry.
@@ -254,50 +543,6 @@ fn angle_bin(x: f64, y: f64) -> usize {
     ((pseudo_angle(x, y) * (ANGLE_BINS as f64 / 4.0)) as usize).min(ANGLE_BINS - 1)
 }
 
-/// Widens the shadow interval of the direction bins subtended by the cell at offset
-/// `(di, dj)` ≠ 0 from the viewpoint (its four corners, plus one bin on each side against
-/// rounding) to include target distances `start..=end` (cells).
-fn mark_cell_directions(
-    mask: &mut [(f32, f32); ANGLE_BINS],
-    di: i32,
-    dj: i32,
-    start: f32,
-    end: f32,
-) {
-    let (x, y) = (di as f64, dj as f64);
-    let bins = [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)]
-        .map(|(ox, oy)| angle_bin(x + ox, y + oy) as i64);
-    let lo = bins.iter().copied().min().unwrap_or(0);
-    let hi = bins.iter().copied().max().unwrap_or(0);
-    let n = ANGLE_BINS as i64;
-    let mut mark = |a: i64, b: i64| {
-        for k in a - 1..=b + 1 {
-            let m = &mut mask[k.rem_euclid(n) as usize];
-            m.0 = m.0.min(start);
-            m.1 = m.1.max(end);
-        }
-    };
-    if hi - lo > n / 2 {
-        // The cell straddles direction 0 (the +x axis): wrap around.
-        let lo_w = bins
-            .iter()
-            .copied()
-            .filter(|&b| b >= n / 2)
-            .min()
-            .unwrap_or(n);
-        let hi_w = bins
-            .iter()
-            .copied()
-            .filter(|&b| b < n / 2)
-            .max()
-            .unwrap_or(0);
-        mark(lo_w, n - 1);
-        mark(0, hi_w);
-    } else {
-        mark(lo, hi);
-    }
-}
-
 /// The view rectangle: the known area grown by the sensor reach plus the neighbourhood of
 /// Eq. 10.
 fn view_rect(map: &ElevationMap, around: CellRect) -> CellRect {
@@ -308,7 +553,7 @@ fn view_rect(map: &ElevationMap, around: CellRect) -> CellRect {
 /// I_cell(ν') (Eq. 10): (k + 1) / 9 for an unknown cell inside `bounds`, 0 otherwise.
 pub fn cell_information(map: &ElevationMap, c: Cell, bounds: Option<&WorldRect>) -> f64 {
     let v = GainView::new(map, rect::expand(CellRect::new(c, 1, 1), 1), bounds);
-    v.i_cell[v.rect.index(c).unwrap_or(0)] as f64
+    v.icount[v.rect.index(c).unwrap_or(0)] as f64 / 9.0
 }
 
 /// I_model(ν) (Eq. 11) at one observed cell, without the candidate filter. 0 for an unknown
@@ -317,13 +562,29 @@ pub fn model_information(map: &ElevationMap, c: Cell, bounds: Option<&WorldRect>
     let p = map.params();
     let d = map.cell_size();
     let view = GainView::new(map, view_rect(map, CellRect::new(c, 1, 1)), bounds);
-    let disc = disc_offsets(p.r_sensor, d);
-    view.model_gain(c, &disc, disc_reach(p.r_sensor, d), p.sensor_height, d)
+    view.model_count(c, &DiscTable::new(p.r_sensor, d), p.sensor_height, d) as f64 / 9.0
+}
+
+/// The candidate cells of Eq. 11: reachable goal cells on the `info_gain_stride` lattice inside
+/// `bounds`.
+fn candidates(map: &ElevationMap, reach: &Reachability, bounds: Option<&WorldRect>) -> Vec<Cell> {
+    let stride = map.params().info_gain_stride.max(1) as i32;
+    let d = map.cell_size();
+    reach
+        .cells()
+        .filter(|&c| {
+            c.i.rem_euclid(stride) == 0
+                && c.j.rem_euclid(stride) == 0
+                && reach.is_goal_cell(c)
+                && in_bounds(bounds, c, d)
+        })
+        .collect()
 }
 
 /// I_model (Eq. 11) on every candidate cell: observed, admissible, reachable (`reach`), on the
 /// `info_gain_stride` lattice, inside `bounds`, with an unknown cell within r_sensor. Runs in
-/// parallel over candidates; the result is deterministic.
+/// parallel over candidates; the result is deterministic. [`GainCache`] gives the same result
+/// incrementally.
 pub fn information_gain(
     map: &ElevationMap,
     reach: &Reachability,
@@ -334,32 +595,225 @@ pub fn information_gain(
     };
     let p = map.params();
     let d = map.cell_size();
-    let stride = p.info_gain_stride.max(1) as i32;
-    let candidates: Vec<Cell> = reach
-        .cells()
-        .filter(|&c| {
-            c.i.rem_euclid(stride) == 0
-                && c.j.rem_euclid(stride) == 0
-                && reach.is_goal_cell(c)
-                && in_bounds(bounds, c, d)
-        })
-        .collect();
+    let candidates = candidates(map, reach, bounds);
     let view = GainView::new(map, view_rect(map, known), bounds);
-    let disc = disc_offsets(p.r_sensor, d);
-    let r = disc_reach(p.r_sensor, d);
-    let gains: Vec<f64> = candidates
+    let disc = DiscTable::new(p.r_sensor, d);
+    let counts: Vec<u32> = candidates
         .par_iter()
-        .map_init(Vec::new, |buf, &c| {
-            view.model_gain_with(c, &disc, r, p.sensor_height, d, buf)
+        .map_init(Scratch::default, |s, &c| {
+            view.model_count_with(c, &disc, p.sensor_height, d, s)
         })
         .collect();
+    collect_gains(candidates, counts)
+}
+
+fn collect_gains(candidates: Vec<Cell>, counts: Vec<u32>) -> InfoGain {
     InfoGain {
         candidates: candidates.len(),
         cells: candidates
             .into_iter()
-            .zip(gains)
-            .filter(|&(_, g)| g > 0.0)
+            .zip(counts)
+            .filter(|&(_, n)| n > 0)
+            .map(|(c, n)| (c, n as f64 / 9.0))
             .collect(),
+    }
+}
+
+/// Above this many changed cells within r_sensor + 1 of a cached candidate, its Eq. 11 sum is
+/// evaluated afresh instead of updated (the update visits ~9 targets per changed cell plus the
+/// shadow behind it, twice; a fresh evaluation costs about two passes over the disc).
+const DELTA_MAX_CHANGES: u32 = 48;
+
+/// Sentinel of [`GainCache`]: no cached value.
+const NOT_CACHED: u32 = u32::MAX;
+
+/// Eq. 11 kept up to date between calls: a mission asks for the gain every few seconds while
+/// the map changes only where the sensor looks. A cached candidate near cells that changed
+/// since the last call gets its sum *updated* from the targets those changes can affect
+/// ([`GainView::delta_count`]); only candidates that are new, changed themselves, or saw many
+/// changes are evaluated afresh. Sums are kept as integers (9·I_model), so updates are exact.
+///
+/// "Changed" means the cell became observed, or its elevation moved by more than `dz` from
+/// the value the cache last used; the cache evaluates Eq. 11 on its own copy of the
+/// elevations, which follows the map with that hysteresis. With `dz = 0` the result equals
+/// [`information_gain`] exactly; a small `dz` (the mission uses 1 cm, the order of the depth
+/// noise) stops the Kalman refinement of ground already seen, which moves elevations by
+/// millimetres with every scan, from touching every candidate near the sensor footprint. Such
+/// a change can flip a sight line only where it grazes a cell within `dz`.
+#[derive(Default)]
+pub struct GainCache {
+    view: Option<GainView>,
+    /// Cached 9·I_model per view cell ([`NOT_CACHED`] = none).
+    counts: Vec<u32>,
+    bounds: Option<WorldRect>,
+    disc: Option<(f64, f64, DiscTable)>,
+    dz: f32,
+    /// (fresh evaluations, delta updates) in the last call.
+    last: (usize, usize),
+}
+
+impl GainCache {
+    /// An empty cache with elevation hysteresis `dz` (metres, ≥ 0; NaN or negative counts as 0).
+    pub fn new(dz: f64) -> Self {
+        Self {
+            dz: if dz > 0.0 { dz as f32 } else { 0.0 },
+            ..Self::default()
+        }
+    }
+
+    /// Candidates whose Eq. 11 sum was evaluated afresh in the last call.
+    pub fn last_evaluated(&self) -> usize {
+        self.last.0
+    }
+
+    /// Candidates whose cached Eq. 11 sum was updated from nearby changes in the last call.
+    pub fn last_updated(&self) -> usize {
+        self.last.1
+    }
+
+    /// [`information_gain`] on the current map, re-evaluating only what changed since the
+    /// last call.
+    pub fn compute(
+        &mut self,
+        map: &ElevationMap,
+        reach: &Reachability,
+        bounds: Option<&WorldRect>,
+    ) -> InfoGain {
+        self.last = (0, 0);
+        let Some(known) = map.known_bounds() else {
+            return InfoGain::default();
+        };
+        let p = map.params();
+        let d = map.cell_size();
+        if self
+            .disc
+            .as_ref()
+            .is_none_or(|(r, dd, _)| *r != p.r_sensor || *dd != d)
+        {
+            self.disc = Some((p.r_sensor, d, DiscTable::new(p.r_sensor, d)));
+            self.view = None;
+        }
+        let Some((_, _, disc)) = self.disc.as_ref() else {
+            return InfoGain::default();
+        };
+        let h = p.sensor_height;
+        let needed = view_rect(map, known);
+        let fits = self
+            .view
+            .as_ref()
+            .is_some_and(|v| rect::intersection(v.rect, needed) == Some(needed));
+        let candidates = candidates(map, reach, bounds);
+        let mut deltas: Vec<(usize, Cell)> = Vec::new();
+        let mut changed_cells: Vec<Cell> = Vec::new();
+        let mut old: Option<(Vec<f32>, Vec<u8>)> = None;
+        if !fits || self.bounds != bounds.copied() {
+            // Grow with a margin so that a slowly growing map rebuilds rarely.
+            let rect = match &self.view {
+                Some(v) if self.bounds == bounds.copied() => {
+                    rect::expand(rect::union(v.rect, needed), disc.reach)
+                }
+                _ => rect::expand(needed, disc.reach),
+            };
+            self.view = Some(GainView::new(map, rect, bounds));
+            self.counts = vec![NOT_CACHED; rect.len()];
+            self.bounds = bounds.copied();
+        } else if let Some(v) = self.view.as_mut() {
+            // Follow the map: cells that became observed or moved by more than dz.
+            let fresh = map.elevation_raster(v.rect);
+            let mut changed = vec![false; fresh.len()];
+            let old_elev = v.elev.clone();
+            let mut known_changed = false;
+            for (k, (&new, cur)) in fresh.iter().zip(v.elev.iter_mut()).enumerate() {
+                let differs = if new.is_nan() || cur.is_nan() {
+                    new.is_nan() != cur.is_nan()
+                } else {
+                    (new - *cur).abs() > self.dz
+                };
+                if differs {
+                    known_changed |= new.is_nan() != cur.is_nan();
+                    *cur = new;
+                    changed[k] = true;
+                    changed_cells.push(v.rect.cell(k));
+                }
+            }
+            let old_icount = if known_changed {
+                let o = v.icount.clone();
+                v.derive(bounds, d);
+                o
+            } else {
+                v.icount.clone()
+            };
+            if !changed_cells.is_empty() {
+                let (w, hh) = (v.rect.width as usize, v.rect.height as usize);
+                let sat = summed_area(&changed, w, hh);
+                let is_candidate = {
+                    let mut m = vec![false; v.rect.len()];
+                    for &c in &candidates {
+                        if let Some(k) = v.rect.index(c) {
+                            m[k] = true;
+                        }
+                    }
+                    m
+                };
+                for (k, n) in self.counts.iter_mut().enumerate() {
+                    if *n == NOT_CACHED {
+                        continue;
+                    }
+                    let c = v.rect.cell(k);
+                    let near = square_count(&sat, v.rect, c, disc.reach + 1);
+                    if near == 0 {
+                        continue;
+                    }
+                    if changed[k] || near > DELTA_MAX_CHANGES || !is_candidate[k] {
+                        *n = NOT_CACHED;
+                    } else {
+                        deltas.push((k, c));
+                    }
+                }
+            }
+            old = Some((old_elev, old_icount));
+        }
+        let Some(view) = self.view.as_ref() else {
+            return InfoGain::default();
+        };
+        let todo: Vec<(usize, Cell)> = candidates
+            .iter()
+            .filter_map(|&c| view.rect.index(c).map(|k| (k, c)))
+            .filter(|&(k, _)| self.counts[k] == NOT_CACHED)
+            .collect();
+        let fresh: Vec<u32> = todo
+            .par_iter()
+            .map_init(Scratch::default, |s, &(_, c)| {
+                view.model_count_with(c, disc, h, d, s)
+            })
+            .collect();
+        if let Some((old_elev, old_icount)) = &old {
+            let ov = OldView {
+                elev: old_elev,
+                icount: old_icount,
+            };
+            let changed = &changed_cells;
+            let updates: Vec<i64> = deltas
+                .par_iter()
+                .map_init(Scratch::default, |s, &(_, c)| {
+                    view.delta_count(&ov, c, changed, disc, h, d, s)
+                })
+                .collect();
+            for (&(k, _), dn) in deltas.iter().zip(updates) {
+                let n = self.counts[k] as i64 + dn;
+                debug_assert!(n >= 0, "negative Eq. 11 count");
+                self.counts[k] = n.max(0) as u32;
+            }
+        }
+        self.last = (todo.len(), deltas.len());
+        for (&(k, _), n) in todo.iter().zip(fresh) {
+            self.counts[k] = n;
+        }
+        let counts = candidates
+            .iter()
+            .map(|&c| view.rect.index(c).map_or(0, |k| self.counts[k]))
+            .collect();
+        collect_gains(candidates, counts)
     }
 }
 
@@ -476,6 +930,125 @@ mod tests {
         // Bounds that exclude everything beyond the square leave nothing to gain.
         let b = WorldRect::new(Point2::new(-0.5, -0.5), Point2::new(0.6, 0.6));
         assert!(information_gain(&m, &reach, Some(&b)).cells.is_empty());
+    }
+
+    #[test]
+    fn cache_reuses_unchanged_candidates_and_follows_changes() {
+        let mut m = ElevationMap::new(MapParams {
+            r_sensor: 0.3,
+            ..params()
+        });
+        flat(
+            &mut m,
+            (-10..=10).flat_map(|j| (-10..=10).map(move |i| Cell::new(i, j))),
+        );
+        let reach = Reachability::compute(&m, Cell::new(0, 0));
+        let mut cache = GainCache::new(0.01);
+        let first = cache.compute(&m, &reach, None);
+        assert_eq!(first.cells, information_gain(&m, &reach, None).cells);
+        assert!(cache.last_evaluated() > 0);
+        // Nothing changed: everything comes from the cache.
+        let again = cache.compute(&m, &reach, None);
+        assert_eq!(again.cells, first.cells);
+        assert_eq!(cache.last_evaluated(), 0);
+        // A change below the hysteresis is ignored; above it only nearby candidates are
+        // re-evaluated and the result is exact again.
+        m.set_cell(Cell::new(9, 9), 0.005, 1e-4, Rgb8::default());
+        m.update_passability();
+        cache.compute(&m, &reach, None);
+        assert_eq!(cache.last_evaluated(), 0);
+        m.set_cell(Cell::new(9, 9), 0.2, 1e-4, Rgb8::default());
+        m.set_cell(Cell::new(11, 9), 0.0, 1e-4, Rgb8::default());
+        m.update_passability();
+        let reach = Reachability::compute(&m, Cell::new(0, 0));
+        let after = cache.compute(&m, &reach, None);
+        let (evaluated, updated) = (cache.last_evaluated(), cache.last_updated());
+        assert!(
+            updated > 0,
+            "nearby candidates are updated, not re-evaluated"
+        );
+        assert!(
+            evaluated + updated < after.candidates,
+            "{evaluated} {updated}"
+        );
+        assert_eq!(after.cells, information_gain(&m, &reach, None).cells);
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+        /// Delta updates are exact: on a fixed-size patchy map with walls, random edits
+        /// (unknown cells becoming known, known cells rising or sinking) leave the cache equal
+        /// to a fresh evaluation.
+        #[test]
+        fn cache_updates_equal_fresh_evaluation(
+            init in proptest::collection::vec((proptest::bool::weighted(0.6), 0.0f32..0.6), 625),
+            steps in proptest::collection::vec(
+                proptest::collection::vec((-12..=12i32, -12..=12i32, 0.0f32..0.6), 1..12),
+                1..6,
+            ),
+            dz in proptest::prop_oneof![proptest::strategy::Just(0.0f64), 0.0f64..0.05],
+        ) {
+            let mut m = ElevationMap::new(MapParams { r_sensor: 0.6, ..params() });
+            for (k, &(known, z)) in init.iter().enumerate() {
+                let c = Cell::new(k as i32 % 25 - 12, k as i32 / 25 - 12);
+                // Corners pin the known bounds so the view never grows.
+                let corner = c.i.abs() == 12 && c.j.abs() == 12;
+                if known || corner || c == Cell::new(0, 0) {
+                    let z = if c == Cell::new(0, 0) { 0.0 } else { z };
+                    m.set_cell(c, z, 1e-4, Rgb8::default());
+                }
+            }
+            m.update_passability();
+            let mut cache = GainCache::new(dz);
+            let reach = Reachability::compute(&m, Cell::new(0, 0));
+            let first = cache.compute(&m, &reach, None);
+            proptest::prop_assert_eq!(first.cells, information_gain(&m, &reach, None).cells);
+            for edits in steps {
+                for (i, j, z) in edits {
+                    if (i, j) != (0, 0) {
+                        m.set_cell(Cell::new(i, j), z, 1e-4, Rgb8::default());
+                    }
+                }
+                m.update_passability();
+                let reach = Reachability::compute(&m, Cell::new(0, 0));
+                let cached = cache.compute(&m, &reach, None);
+                if dz == 0.0 {
+                    let fresh = information_gain(&m, &reach, None);
+                    proptest::prop_assert_eq!(cached.candidates, fresh.candidates);
+                    proptest::prop_assert_eq!(cached.cells, fresh.cells);
+                }
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(32))]
+        /// With dz = 0 the cache equals a fresh evaluation after every step of a random
+        /// sequence of map edits (new cells, raised cells, the map growing).
+        #[test]
+        fn cache_equals_fresh_evaluation(
+            steps in proptest::collection::vec(
+                proptest::collection::vec((-12..12i32, -12..12i32, 0.0f32..0.5), 1..30),
+                1..6,
+            ),
+        ) {
+            let mut m = ElevationMap::new(MapParams { r_sensor: 0.4, ..params() });
+            flat(&mut m, (-2..=2).flat_map(|j| (-2..=2).map(move |i| Cell::new(i, j))));
+            let mut cache = GainCache::new(0.0);
+            for edits in steps {
+                for (i, j, z) in edits {
+                    if (i, j) != (0, 0) {
+                        m.set_cell(Cell::new(i, j), z, 1e-4, Rgb8::default());
+                    }
+                }
+                m.update_passability();
+                let reach = Reachability::compute(&m, Cell::new(0, 0));
+                let fresh = information_gain(&m, &reach, None);
+                let cached = cache.compute(&m, &reach, None);
+                proptest::prop_assert_eq!(cached.candidates, fresh.candidates);
+                proptest::prop_assert_eq!(cached.cells, fresh.cells);
+            }
+        }
     }
 
     proptest::proptest! {
