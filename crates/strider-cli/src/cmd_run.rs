@@ -248,6 +248,8 @@ pub fn run(
         "exploration_time_s": log.exploration_time_s,
         "driven_m": log.driven_m,
         "observed_cells": mission.map().observed_count(),
+        "scans_fused": mission.map().scan_count(),
+        "phase_wall_s": log.phase_wall_s,
         "models": models,
         "tours": tours_json,
         "stuck_events": log.stuck_events,

@@ -23,5 +23,5 @@ pub mod params;
 pub mod planner;
 pub mod stats;
 
-pub use mission::{Mission, MissionError, MissionLog, MissionProgress, Termination};
+pub use mission::{Mission, MissionError, MissionLog, MissionProgress, PhaseWall, Termination};
 pub use params::{GaitSpec, MissionParams, Rates, Strategy};

@@ -106,10 +106,30 @@ pub struct MissionLog {
     pub turn_skipped: usize,
     /// Wall time of the mission, s.
     pub wall_s: f64,
+    /// Wall time per part of the loop, s.
+    pub phase_wall_s: PhaseWall,
     /// Eq. 11 sums evaluated afresh over all spatial updates.
     pub gain_evaluated: usize,
     /// Eq. 11 sums updated incrementally from nearby map changes over all spatial updates.
     pub gain_updated: usize,
+}
+
+/// Wall time spent in each part of the mission loop, s.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct PhaseWall {
+    /// The robot (simulator) advancing, including the mapping and cost measurement it calls
+    /// back into.
+    pub robot: f64,
+    /// Mapping alone (scan fusion in the sensor callback).
+    pub mapping: f64,
+    /// Spatial goals (passability, reachability, Eq. 11, Alg. 3).
+    pub spatial: f64,
+    /// Learning and cost-goal identification.
+    pub learning: f64,
+    /// Tour and path planning.
+    pub planning: f64,
+    /// Gait choice (Alg. 4).
+    pub gait: f64,
 }
 
 /// A snapshot for progress displays.
@@ -245,6 +265,7 @@ impl Mission {
                 stuck_events: 0,
                 turn_skipped: 0,
                 wall_s: 0.0,
+                phase_wall_s: PhaseWall::default(),
                 gain_evaluated: 0,
                 gain_updated: 0,
             },
@@ -347,9 +368,11 @@ impl Mission {
                 break;
             }
             self.moving = !state.idle;
+            let w = Instant::now();
             state = robot
                 .advance(dt, self)
                 .map_err(|e| MissionError::Robot(e.to_string()))?;
+            self.log.phase_wall_s.robot += w.elapsed().as_secs_f64();
             let t = robot.now();
             if state.idle {
                 self.signal.reset();
@@ -361,15 +384,22 @@ impl Mission {
                 self.log.stuck_events += 1;
             }
             if t >= next_spatial {
+                let w = Instant::now();
                 self.update_spatial();
+                self.log.phase_wall_s.spatial += w.elapsed().as_secs_f64();
                 next_spatial = t + 1.0 / rates.spatial_hz;
             }
             if t >= next_learn {
+                let w = Instant::now();
                 self.update_learning();
+                self.log.phase_wall_s.learning += w.elapsed().as_secs_f64();
                 next_learn = t + 1.0 / rates.learning_hz;
             }
             if t >= next_tour || state.idle || state.blocked {
-                if let Some(end) = self.decide(robot, t, state) {
+                let w = Instant::now();
+                let end = self.decide(robot, t, state);
+                self.log.phase_wall_s.planning += w.elapsed().as_secs_f64();
+                if let Some(end) = end {
                     self.log.termination = end;
                     break;
                 }
@@ -387,7 +417,9 @@ impl Mission {
                     learning_set: self.models.iter().map(|m| m.learning_set_len()).sum(),
                 });
             }
+            let w = Instant::now();
             let g = self.choose_gait(t);
+            self.log.phase_wall_s.gait += w.elapsed().as_secs_f64();
             if g != self.gait {
                 self.gait = g;
                 robot.set_gait(g);
@@ -744,7 +776,9 @@ impl SensorSink for Mission {
     }
 
     fn on_cloud(&mut self, cloud: &PointCloud) {
+        let w = Instant::now();
         self.map.integrate(cloud);
+        self.log.phase_wall_s.mapping += w.elapsed().as_secs_f64();
         if let Some(p) = self.pose {
             let k = cloud.sensor as usize;
             if self.keyframes.len() <= k {
