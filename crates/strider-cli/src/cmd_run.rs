@@ -1,9 +1,5 @@
-//! `strider run`: an exploration mission (`001` Alg. 1) on a scenario in the simulator.
-//!
-//! This file is the glue between the scenario (world, robot profile, strategy table) and the
-//! mission: it converts the profile and the `001` Tbl. 3 values into [`MissionParams`], puts the
-//! simulator behind the robot interface and writes the report. The mission itself never sees
-//! the scenario's world.
+//! `strider run`: an exploration mission (`001` Alg. 1) on a scenario in the simulator, the
+//! benchmark tours in every navigation mode, and the report (JSON, PNG figures).
 
 use std::fs;
 use std::path::Path;
@@ -11,95 +7,14 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use serde_json::json;
-use strider_core::Pose2;
-use strider_explore::evaluate::{NavigationMode, run_tour};
-use strider_explore::{GaitSpec, Mission, MissionParams, Rates, Strategy};
-use strider_learn::cost_model::CostModelParams;
-use strider_learn::gp::{GpParams, Kernel, KernelKind};
-use strider_map::rect::WorldRect;
-use strider_scenario::Scenario;
-use strider_sim::Simulator;
+use strider_core::Point2;
+use strider_explore::evaluate::{NavigationMode, TourResult};
+use strider_explore::planner::{CostMode, PlanningView};
+use strider_explore::{Mission, MissionLog, Strategy};
 
 use crate::cmd_scenario::load;
 use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
-use strider_core::Point2;
-use strider_explore::MissionLog;
-use strider_explore::evaluate::TourResult;
-use strider_explore::planner::{CostMode, PlanningView};
-
-/// A number from the scenario's `[strategy]` table, or `default`.
-fn num(sc: &Scenario, key: &str, default: f64) -> f64 {
-    let v = sc.strategy.get(key);
-    v.and_then(|v| v.as_float())
-        .or_else(|| v.and_then(|v| v.as_integer()).map(|i| i as f64))
-        .unwrap_or(default)
-}
-
-/// Mission parameters from a scenario: the robot profile, the map parameters and the
-/// `[strategy]` table (`001` Tbl. 3 names).
-pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<MissionParams> {
-    let gaits: Vec<GaitSpec> = sc
-        .robot
-        .gaits
-        .iter()
-        .map(|g| GaitSpec {
-            name: g.name.clone(),
-            v_max: g.max_speed,
-        })
-        .collect();
-    if gaits.is_empty() {
-        bail!(
-            "scenario {}: robot profile {} has no gait",
-            sc.name,
-            sc.robot.name
-        );
-    }
-    let l = num(sc, "lengthscale", 0.4);
-    let sigma_eps = num(sc, "sigma_eps", 0.5);
-    let sigma_s = num(sc, "sigma_s", 1.0);
-    let gp = GpParams {
-        kernel: Kernel {
-            kind: KernelKind::SquaredExponential,
-            lengthscales: vec![l],
-            signal_variance: sigma_s,
-        },
-        noise_variance: sigma_eps * sigma_eps,
-        // Decision 12: costs are modelled as y − 1 with a zero-mean GP.
-        prior_mean: 1.0,
-    };
-    let mut cm = CostModelParams::new(gp);
-    cm.sigma_sense2 = num(sc, "sigma_sense", cm.sigma_sense2);
-    cm.sigma0_2 = num(sc, "sigma_0_sq", cm.sigma0_2);
-    cm.n_min = num(sc, "n_min", cm.n_min as f64) as usize;
-    cm.m_t = num(sc, "m_t", cm.m_t as f64) as usize;
-    cm.d_s = num(sc, "d_s", cm.d_s);
-    cm.c_max = num(sc, "c_max", cm.c_max);
-    cm.erode_steps = num(sc, "n_erode_steps", cm.erode_steps as f64) as usize;
-    cm.dilate_steps = num(sc, "n_dilate_steps", cm.dilate_steps as f64) as usize;
-    cm.dilate_size = num(sc, "n_dilate_size", cm.dilate_size as f64) as usize;
-    cm.igng.eps_winner = num(sc, "igng_eps_winner", cm.igng.eps_winner);
-    cm.igng.eps_neighbour = num(sc, "igng_eps_neighbour", cm.igng.eps_neighbour);
-    cm.igng.age_mature = num(sc, "igng_age_mature", cm.igng.age_mature as f64) as u32;
-    cm.igng.age_max = num(sc, "igng_age_max", cm.igng.age_max as f64) as u32;
-    cm.igng.batch = num(sc, "igng_batch", cm.igng.batch as f64) as usize;
-    let b = &sc.bounds;
-    Ok(MissionParams {
-        map: sc.map.clone(),
-        gaits,
-        cost_model: cm,
-        window_s: num(sc, "delta_t", 5.0),
-        c_high: num(sc, "c_high", 20.0),
-        c_loss: num(sc, "c_loss", 10.0),
-        dt_sample: num(sc, "dt_sample", 30.0),
-        dt_fallback: num(sc, "dt_fallback", 30.0),
-        bounds: Some(WorldRect::new(b.min, b.max)),
-        time_limit_s: sc.time_limit_s,
-        strategy,
-        rates: Rates::default(),
-        max_sites_per_goal: 16,
-        seed,
-    })
-}
+use crate::trial::{mission_params, run_mission, run_tours};
 
 fn median_max(v: &[f64]) -> (f64, f64) {
     if v.is_empty() {
@@ -133,64 +48,29 @@ pub fn run(
     }
     fs::create_dir_all(out)
         .with_context(|| format!("{}: cannot create directory", out.display()))?;
-    let mut sim = Simulator::new(&sc, seed)?;
-    let mut mission = Mission::new(params)?;
+
     // Progress on stderr (hidden when stderr is not a terminal).
-    let bar = indicatif::ProgressBar::new(mission.params().time_limit_s.max(1.0) as u64);
+    let bar = indicatif::ProgressBar::new(params.time_limit_s.max(1.0) as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
             "{spinner} exploring {pos}/{len} s simulated ({elapsed}) {msg}",
         )
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
     );
-    let log = mission
-        .run_observed(&mut sim, |p| {
-            bar.set_position(p.time_s as u64);
-            bar.set_message(format!(
-                "{} cells mapped, {} spatial + {} cost goals, {} learning pairs",
-                p.observed_cells, p.spatial_goals, p.cost_goals, p.learning_set
-            ));
-        })?
-        .clone();
+    let (mission, log) = run_mission(&sc, params, seed, |p| {
+        bar.set_position(p.time_s as u64);
+        bar.set_message(format!(
+            "{} cells mapped, {} spatial + {} cost goals, {} learning pairs",
+            p.observed_cells, p.spatial_goals, p.cost_goals, p.learning_set
+        ));
+    })?;
     bar.finish_and_clear();
-
-    // Benchmark tours on the frozen map and models, each mode in a fresh simulator standing at
-    // the tour's first waypoint.
-    let mut tours = Vec::new();
-    for tour in &sc.tours {
-        let mut pts = tour.waypoints.clone();
-        if tour.closed && pts.len() > 1 {
-            pts.push(pts[0]);
-        }
-        if pts.len() < 2 {
-            continue;
-        }
-        let mut modes = Vec::new();
-        for mode in NavigationMode::ALL {
-            let spin = indicatif::ProgressBar::new_spinner();
-            spin.set_message(format!(
-                "tour {} with {} navigation",
-                tour.name,
-                mode.name()
-            ));
-            spin.enable_steady_tick(std::time::Duration::from_millis(200));
-            let mut sc2 = sc.clone();
-            let yaw = (pts[1].y - pts[0].y).atan2(pts[1].x - pts[0].x);
-            sc2.start = Pose2::new(pts[0].x, pts[0].y, yaw);
-            let mut sim = Simulator::new(&sc2, seed)?;
-            let r = run_tour(
-                &mut sim,
-                mission.map(),
-                mission.models(),
-                mission.params(),
-                &pts,
-                mode,
-            )?;
-            spin.finish_and_clear();
-            modes.push(r);
-        }
-        tours.push((tour.name.clone(), modes));
-    }
+    let spin = indicatif::ProgressBar::new_spinner();
+    spin.enable_steady_tick(std::time::Duration::from_millis(200));
+    let tours = run_tours(&sc, &mission, seed, &NavigationMode::ALL, |tour, mode| {
+        spin.set_message(format!("tour {tour} with {} navigation", mode.name()));
+    })?;
+    spin.finish_and_clear();
     let tours_json: Vec<_> = tours
         .iter()
         .map(|(name, modes)| {

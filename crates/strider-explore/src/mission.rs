@@ -224,10 +224,12 @@ impl Mission {
         let n = params.gaits.len();
         // Start with the fastest gait.
         let fastest = params.fastest_gait();
-        // Decision 5 allows a stride lattice for Eq. 11: candidates every ~0.2 m, each standing
-        // for stride² cells in Alg. 3's minimum cluster size.
+        // Decision 5 allows a stride lattice for Eq. 11: candidates every max(0.2 m,
+        // r_sensor/20) (I_model sums over the whole r_sensor disc, so it varies on that scale),
+        // each standing for stride² cells in Alg. 3's minimum cluster size.
         let mut map_params = params.map.clone();
-        let stride = ((0.2 / map_params.cell_size).round() as u32).max(1);
+        let spacing = 0.2f64.max(map_params.r_sensor / 20.0);
+        let stride = ((spacing / map_params.cell_size).round() as u32).max(1);
         if map_params.info_gain_stride <= 1 && stride > 1 {
             map_params.info_gain_stride = stride;
             let s2 = (stride * stride) as usize;
@@ -443,6 +445,9 @@ impl Mission {
             self.log.gain_evaluated += self.gain.last_evaluated();
             self.log.gain_updated += self.gain.last_updated();
             self.spatial = cluster_information(&self.map, &gain, &reach, bounds.as_ref());
+            if std::env::var("SPATIAL_DEBUG").is_ok() {
+                eprintln!("SPATIAL t={:.0} cand={} gain_cells={} total={:.1} clusters={} reach={}", self.pose.map_or(0.0, |p| p.stamp), gain.candidates, gain.cells.len(), gain.total(), self.spatial.len(), reach.cells().count());
+            }
             let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
             let visited = &self.visited;
             self.spatial

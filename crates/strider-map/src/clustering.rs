@@ -1,17 +1,26 @@
 //! `001` Alg. 3, clusterEntropyRepresentatives: spatial goals from the cells with non-zero
 //! information gain (decision 5).
 //!
-//! Greedy, in the fixed (row-major) order of the cells: a cell joins the cluster whose nearest
-//! member is closer than c_radius (line 7–9), else starts a new cluster (line 11). Clusters with
-//! more than c_min_cells members (line 14) yield a representative: the average-coordinate cell
-//! (line 15), snapped to the nearest reachable admissible cell inside the exploration bounds.
-//! Nearest members are found through a hash grid of c_radius-sized buckets.
+//! Greedy, in the fixed (row-major) order of the cells: a cell joins the cluster whose centre
+//! (the running average coordinate of its members) is closer than c_radius (line 7–9), else
+//! starts a new cluster (line 11). Clusters with more than c_min_cells members (line 14) yield
+//! a representative: the average-coordinate cell (line 15), snapped to the nearest reachable
+//! admissible cell inside the exploration bounds.
+//!
+//! "distanceToClosestCluster" is read as the distance to the cluster's centre. Reading it as
+//! the distance to the nearest member (single linkage, our first choice) chains every
+//! informative cell of a connected region into one cluster, because the candidate lattice is
+//! denser than c_radius: the robot then gets a single spatial goal at the centroid of the whole
+//! frontier band, often in the middle of mapped space, and exploration stops once that spot was
+//! visited (observed on `courtyard-large`, where a 10 m sensor makes most of the known area
+//! informative). Centre distance bounds each cluster to a c_radius ball, so the goals cover
+//! the informative area at c_radius spacing: "a limited number of spatial entropy
+//! representants" (`001` §4.2) rather than one.
 
 use crate::information_gain::InfoGain;
 use crate::map::ElevationMap;
 use crate::reachability::Reachability;
 use crate::rect::{WorldRect, in_bounds};
-use std::collections::HashMap;
 use strider_core::{Cell, Point2};
 
 /// A spatial exploration goal Γ_P (one representative per kept cluster).
@@ -27,39 +36,35 @@ pub struct SpatialGoal {
     pub members: usize,
 }
 
-/// Alg. 3 lines 2–11: greedy clustering of `cells` (in the given order) with linkage radius
-/// `radius` (cells, strict `<`). Returns the member indices of each cluster, in creation order.
+/// Alg. 3 lines 2–11: greedy clustering of `cells` (in the given order) with radius `radius`
+/// (cells, strict `<`) around each cluster's running centre; ties go to the older cluster.
+/// Returns the member indices of each cluster, in creation order.
 pub fn greedy_clusters(cells: &[Cell], radius: f64) -> Vec<Vec<usize>> {
-    let b = radius.ceil().max(1.0) as i32;
-    let bucket = |c: Cell| (c.i.div_euclid(b), c.j.div_euclid(b));
-    let mut grid: HashMap<(i32, i32), Vec<(usize, usize)>> = HashMap::new();
+    // Per cluster: Σi, Σj, n (centres in lattice units; exact for integer sums).
+    let mut sums: Vec<(f64, f64, f64)> = Vec::new();
     let mut clusters: Vec<Vec<usize>> = Vec::new();
+    let r2 = radius * radius;
     for (k, &c) in cells.iter().enumerate() {
-        let (bi, bj) = bucket(c);
+        let (x, y) = (c.i as f64, c.j as f64);
         let mut best: Option<(f64, usize)> = None;
-        for dj in -1..=1 {
-            for di in -1..=1 {
-                let Some(members) = grid.get(&(bi + di, bj + dj)) else {
-                    continue;
-                };
-                for &(m, cl) in members {
-                    let dist = c.dist_cells(cells[m]);
-                    let better = best.is_none_or(|(bd, bc)| dist < bd || (dist == bd && cl < bc));
-                    if dist < radius && better {
-                        best = Some((dist, cl));
-                    }
-                }
+        for (cl, &(sx, sy, n)) in sums.iter().enumerate() {
+            let (dx, dy) = (x - sx / n, y - sy / n);
+            let d2 = dx * dx + dy * dy;
+            if d2 < r2 && best.is_none_or(|(bd, _)| d2 < bd) {
+                best = Some((d2, cl));
             }
         }
         let cl = match best {
             Some((_, cl)) => cl,
             None => {
+                sums.push((0.0, 0.0, 0.0));
                 clusters.push(Vec::new());
                 clusters.len() - 1
             }
         };
+        let s = &mut sums[cl];
+        *s = (s.0 + x, s.1 + y, s.2 + 1.0);
         clusters[cl].push(k);
-        grid.entry((bi, bj)).or_default().push((k, cl));
     }
     clusters
 }
@@ -116,9 +121,8 @@ mod tests {
 
     #[test]
     fn greedy_order_matters_as_in_alg3() {
-        // Radius 1.5 cells: (0,0)-(1,0) link, (3,0) is 2 away from (1,0) → new cluster,
-        // (2,0) then joins the nearest member's cluster: (1,0) and (3,0) tie at distance 1,
-        // the older cluster wins.
+        // Radius 1.5 cells: (1,0) joins (0,0) (centre now (0.5, 0)); (3,0) is 2.5 from it →
+        // new cluster; (2,0) is 1.5 from the first centre (not < 1.5) and 1 from the second.
         let cells = [
             Cell::new(0, 0),
             Cell::new(1, 0),
@@ -127,9 +131,23 @@ mod tests {
             Cell::new(10, 10),
         ];
         let cl = greedy_clusters(&cells, 1.5);
-        assert_eq!(cl, vec![vec![0, 1, 3], vec![2], vec![4]]);
+        assert_eq!(cl, vec![vec![0, 1], vec![2, 3], vec![4]]);
         // Strict "<": at radius exactly 1 neighbours do not link.
         assert_eq!(greedy_clusters(&cells[..2], 1.0).len(), 2);
+    }
+
+    #[test]
+    fn a_long_band_splits_into_radius_sized_clusters() {
+        // A 1-cell-wide band of 40 cells with radius 5: single linkage would make one cluster;
+        // centre linkage makes clusters of at most 2·5 − 1 = 9 consecutive cells.
+        let cells: Vec<Cell> = (0..40).map(|i| Cell::new(i, 0)).collect();
+        let cl = greedy_clusters(&cells, 5.0);
+        assert!(cl.len() >= 4, "{}", cl.len());
+        for c in &cl {
+            let (lo, hi) = (c[0], c[c.len() - 1]);
+            assert!(hi - lo < 10, "{lo}..{hi}");
+            assert_eq!(c.len(), hi - lo + 1, "contiguous");
+        }
     }
 
     #[test]

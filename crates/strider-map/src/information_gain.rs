@@ -619,10 +619,11 @@ fn collect_gains(candidates: Vec<Cell>, counts: Vec<u32>) -> InfoGain {
     }
 }
 
-/// Above this many changed cells within r_sensor + 1 of a cached candidate, its Eq. 11 sum is
-/// evaluated afresh instead of updated (the update visits ~9 targets per changed cell plus the
-/// shadow behind it, twice; a fresh evaluation costs about two passes over the disc).
-const DELTA_MAX_CHANGES: u32 = 48;
+/// Above disc size / this many changed cells within r_sensor + 1 of a cached candidate, its
+/// Eq. 11 sum is evaluated afresh instead of updated (the update casts two rays to ~9 targets
+/// per changed cell plus the shadow behind it; a fresh evaluation costs about two passes over
+/// the disc).
+const DELTA_CHANGES_PER_DISC: usize = 160;
 
 /// Sentinel of [`GainCache`]: no cached value.
 const NOT_CACHED: u32 = u32::MAX;
@@ -755,6 +756,7 @@ impl GainCache {
                     }
                     m
                 };
+                let max_changes = (disc.entries.len() / DELTA_CHANGES_PER_DISC).max(16) as u32;
                 for (k, n) in self.counts.iter_mut().enumerate() {
                     if *n == NOT_CACHED {
                         continue;
@@ -764,7 +766,7 @@ impl GainCache {
                     if near == 0 {
                         continue;
                     }
-                    if changed[k] || near > DELTA_MAX_CHANGES || !is_candidate[k] {
+                    if changed[k] || near > max_changes || !is_candidate[k] {
                         *n = NOT_CACHED;
                     } else {
                         deltas.push((k, c));
