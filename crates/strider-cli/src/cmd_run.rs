@@ -15,6 +15,7 @@ use strider_explore::{Mission, MissionLog, Strategy};
 use crate::cmd_scenario::load;
 use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
 use crate::trial::{mission_params, run_mission, run_tours};
+use strider_core::color::COLOR_PROTOTYPES;
 
 fn median_max(v: &[f64]) -> (f64, f64) {
     if v.is_empty() {
@@ -146,6 +147,15 @@ pub fn run(
     let path = out.join("report.json");
     fs::write(&path, serde_json::to_string_pretty(&report)?)
         .with_context(|| format!("{}: cannot write", path.display()))?;
+    let gait_names: Vec<String> = mission
+        .params()
+        .gaits
+        .iter()
+        .map(|g| g.name.clone())
+        .collect();
+    let html = out.join("report.html");
+    fs::write(&html, report_html(&report, &gait_names, &tours))
+        .with_context(|| format!("{}: cannot write", html.display()))?;
     println!(
         "{} ({}): {:?} after {:.0} s simulated, {:.1} m driven, {} replans (median {:.1} ms, max {:.1} ms), {:.0}x real time, {:.1} s wall -> {}",
         sc.name,
@@ -194,6 +204,20 @@ fn write_figures(
     let scale = Canvas::auto_scale(rect, 900);
     let colors = map.color_raster(rect);
     rgb_canvas(rect, d, scale, &colors).save(&out.join("color.png"))?;
+    // Fig. 5E: the dominant colour prototype of each cell's descriptor ta(ν).
+    let desc = mission.descriptors();
+    let dominant: Vec<_> = rect
+        .cells()
+        .map(|c| {
+            desc.get(c).and_then(|h| {
+                h.iter()
+                    .enumerate()
+                    .max_by(|a, b| a.1.total_cmp(b.1))
+                    .map(|(k, _)| COLOR_PROTOTYPES[k].1)
+            })
+        })
+        .collect();
+    rgb_canvas(rect, d, scale, &dominant).save(&out.join("dominant_colour.png"))?;
     let c_max = mission.params().cost_model.c_max as f32;
     if let Some(view) = PlanningView::build(
         map,
@@ -237,6 +261,24 @@ fn write_figures(
         scalar_canvas(rect, d, scale, &m.planning_costs(rect), Some((1.0, c_max)))
             .0
             .save(&out.join(format!("planning_cost_{name}.png")))?;
+        // Fig. 5G–H: the raw GP prediction and its (latent) variance at every described cell.
+        let pred: Vec<(f32, f32)> = rect
+            .cells()
+            .map(|c| {
+                desc.get(c).map_or((f32::NAN, f32::NAN), |x| {
+                    let (mu, var) = m.predict(x);
+                    (mu as f32, var as f32)
+                })
+            })
+            .collect();
+        let mu: Vec<f32> = pred.iter().map(|p| p.0).collect();
+        let var: Vec<f32> = pred.iter().map(|p| p.1).collect();
+        scalar_canvas(rect, d, scale, &mu, Some((1.0, c_max)))
+            .0
+            .save(&out.join(format!("prediction_{name}.png")))?;
+        scalar_canvas(rect, d, scale, &var, None)
+            .0
+            .save(&out.join(format!("variance_{name}.png")))?;
     }
     let mut path = rgb_canvas(rect, d, scale, &colors);
     let pts: Vec<Point2> = log
@@ -261,4 +303,231 @@ fn write_figures(
         }
     }
     Ok(())
+}
+
+/// Escapes text for HTML.
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// `report.html`: the summary, the tour and model tables, and the figures of `001` Fig. 5/7
+/// with captions, all read from the report written beside it.
+fn report_html(
+    r: &serde_json::Value,
+    gaits: &[String],
+    tours: &[(String, Vec<TourResult>)],
+) -> String {
+    use std::fmt::Write as _;
+    let f = |k: &str| r.get(k).and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
+    let st = |k: &str| {
+        r.get(k)
+            .map(|v| v.as_str().map_or(v.to_string(), str::to_string))
+            .unwrap_or_default()
+    };
+    let lat = |k: &str, q: &str| {
+        r.get(k)
+            .and_then(|v| v.get(q))
+            .and_then(|v| v.as_f64())
+            .unwrap_or(f64::NAN)
+    };
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>Strider: {sc}</title>\
+<style>body{{font-family:sans-serif;max-width:1200px;margin:2em auto;color:#222}}\
+table{{border-collapse:collapse;margin:1em 0}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}\
+th{{background:#f3f3f3}}td:first-child,th:first-child{{text-align:left}}\
+figure{{display:inline-block;margin:6px;vertical-align:top;width:380px}}img{{width:100%;image-rendering:pixelated;border:1px solid #ddd}}\
+figcaption{{font-size:90%}}</style></head><body>\
+<h1>Exploration of <code>{sc}</code> with <code>{strat}</code></h1>\
+<p>World seed {ws}, mission seed {seed}. The robot explored for <b>{expl:.0} s</b> of simulated time \
+({term}), drove {driven:.1} m and mapped {cells} cells; it then drove every benchmark tour once per \
+navigation mode on the frozen map and models. The mission ran {speed:.0}× faster than real time \
+({mw:.1} s wall; whole command {wall:.1} s).</p>\
+<p>Replanning (planning view, all-pairs site costs, GTSP, path): {rn} replans, median {rmed:.1} ms, \
+max {rmax:.1} ms. Goal identification (spatial goals or learning): median {gmed:.1} ms, max {gmax:.1} ms.</p>",
+        sc = esc(&st("scenario")),
+        strat = esc(&st("strategy")),
+        ws = st("world_seed"),
+        seed = st("seed"),
+        expl = f("exploration_time_s"),
+        term = esc(&st("termination")),
+        driven = f("driven_m"),
+        cells = st("observed_cells"),
+        speed = f("speedup"),
+        mw = f("mission_wall_s"),
+        wall = f("wall_time_s"),
+        rn = st("replans"),
+        rmed = lat("replan_latency_ms", "median"),
+        rmax = lat("replan_latency_ms", "max"),
+        gmed = lat("goal_identification_ms", "median"),
+        gmax = lat("goal_identification_ms", "max"),
+    );
+    // Tours: total per mode, then segments.
+    h.push_str("<h2>Benchmark tours</h2><table><tr><th>tour</th>");
+    for m in NavigationMode::ALL {
+        let _ = write!(h, "<th>{} (s)</th>", m.name());
+    }
+    h.push_str("</tr>");
+    for (name, modes) in tours {
+        let _ = write!(h, "<tr><td>{}</td>", esc(name));
+        for r in modes {
+            let _ = write!(
+                h,
+                "<td>{:.1}{}</td>",
+                r.total_s,
+                if r.completed { "" } else { " (incomplete)" }
+            );
+        }
+        h.push_str("</tr>");
+    }
+    h.push_str("</table>");
+    for (name, modes) in tours {
+        let n = modes.first().map_or(0, |r| r.segments.len());
+        let _ = write!(
+            h,
+            "<details><summary>Segments of {}</summary><table><tr><th>segment</th>",
+            esc(name)
+        );
+        for r in modes {
+            let _ = write!(h, "<th>{} (s)</th>", r.mode.name());
+        }
+        h.push_str("</tr>");
+        for k in 0..n {
+            let _ = write!(h, "<tr><td>{} → {}</td>", k, k + 1);
+            for r in modes {
+                match r.segments.get(k) {
+                    Some(s) => {
+                        let _ = write!(
+                            h,
+                            "<td>{:.1}{}</td>",
+                            s.time_s,
+                            if s.reached { "" } else { " ✗" }
+                        );
+                    }
+                    None => h.push_str("<td>–</td>"),
+                }
+            }
+            h.push_str("</tr>");
+        }
+        h.push_str("</table></details>");
+    }
+    // Models.
+    h.push_str("<h2>Learned models</h2>");
+    if let Some(models) = r.get("models").and_then(|m| m.as_array()) {
+        for m in models {
+            let g = m.get("gait").and_then(|v| v.as_str()).unwrap_or("?");
+            let _ = write!(
+                h,
+                "<h3>gait {}</h3><p>{} cost samples, learning set {}, {} terrain classes, \
+                 H<sup>GT</sup> = {}.</p><table><tr><th>class</th><th>dominant colour</th>\
+                 <th>cells</th><th>learning cells</th><th>cost</th><th>variance</th></tr>",
+                esc(g),
+                m.get("cost_samples")
+                    .map_or(String::new(), |v| v.to_string()),
+                m.get("learning_set")
+                    .map_or(String::new(), |v| v.to_string()),
+                m.get("classes").map_or(String::new(), |v| v.to_string()),
+                m.get("h_gt").map_or(String::new(), |v| v.to_string()),
+            );
+            for c in m
+                .get("class_table")
+                .and_then(|v| v.as_array())
+                .into_iter()
+                .flatten()
+            {
+                let num = |k: &str| c.get(k).and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
+                let bin = c
+                    .get("dominant_colour_bin")
+                    .and_then(|v| v.as_u64())
+                    .map(|b| b as usize);
+                let colour = bin
+                    .and_then(|b| COLOR_PROTOTYPES.get(b))
+                    .map_or("–".to_string(), |p| p.0.to_string());
+                let _ = write!(
+                    h,
+                    "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.4}</td></tr>",
+                    c.get("id").map_or(String::new(), |v| v.to_string()),
+                    colour,
+                    c.get("cells").map_or(String::new(), |v| v.to_string()),
+                    c.get("learning_cells")
+                        .map_or(String::new(), |v| v.to_string()),
+                    num("cost"),
+                    num("variance"),
+                );
+            }
+            h.push_str("</table>");
+        }
+    }
+    // Figures.
+    let mut figs: Vec<(String, String)> = vec![
+        ("color.png".into(), "Map colour (mean cell colour).".into()),
+        (
+            "dominant_colour.png".into(),
+            "Dominant colour prototype of each cell's 9-bin descriptor ta(ν) (Fig. 5E).".into(),
+        ),
+        (
+            "merged_cost.png".into(),
+            "Planning cost: the minimum over gaits after the distance transform (Fig. 5C).".into(),
+        ),
+        (
+            "gait.png".into(),
+            "Cheapest gait per cell (Fig. 5D; palette order = gait order).".into(),
+        ),
+    ];
+    for g in gaits {
+        figs.push((
+            format!("measured_cost_{g}.png"),
+            format!("Gait {g}: measured costs (tanh-bounded) where it walked (Fig. 5F)."),
+        ));
+        figs.push((
+            format!("prediction_{g}.png"),
+            format!("Gait {g}: raw GP cost prediction (Fig. 5G)."),
+        ));
+        figs.push((
+            format!("variance_{g}.png"),
+            format!("Gait {g}: GP prediction variance (Fig. 5H)."),
+        ));
+        figs.push((
+            format!("classes_{g}.png"),
+            format!("Gait {g}: IGNG terrain classes after erosion and dilation (Fig. 5I)."),
+        ));
+        figs.push((
+            format!("planning_cost_{g}.png"),
+            format!("Gait {g}: class costs used in planning (Fig. 5K)."),
+        ));
+    }
+    figs.push((
+        "exploration_path.png".into(),
+        "The exploration path (Fig. 7).".into(),
+    ));
+    for (name, modes) in tours {
+        for r in modes {
+            figs.push((
+                format!("tour_{name}_{}.png", r.mode.name()),
+                format!(
+                    "Tour {name}, {} navigation: {:.0} s (colour = gait).",
+                    r.mode.name(),
+                    r.total_s
+                ),
+            ));
+        }
+    }
+    h.push_str("<h2>Figures</h2>");
+    for (file, caption) in figs {
+        let _ = write!(
+            h,
+            "<figure><img src=\"{f}\" alt=\"{c}\"><figcaption>{c}</figcaption></figure>",
+            f = esc(&file),
+            c = esc(&caption)
+        );
+    }
+    h.push_str(
+        "<p>Cost images use viridis from purple (cost 1) to yellow (c_max); the variance images \
+         span their own range. Unobserved cells are blank. Raw numbers: \
+         <a href=\"report.json\">report.json</a>.</p></body></html>\n",
+    );
+    h
 }

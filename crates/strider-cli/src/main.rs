@@ -4,6 +4,7 @@
 //! loads a scenario, wires the simulator to the algorithms through the robot interface, and
 //! writes figures and JSON. Errors end in one line on stderr and exit code 1.
 
+mod cmd_bench;
 mod cmd_gp;
 mod cmd_gtsp;
 mod cmd_map;
@@ -62,6 +63,36 @@ enum Command {
     /// Exact Gaussian-process regression (the traversal-cost model) on CSV files.
     #[command(subcommand)]
     Gp(GpCommand),
+    /// Mission-level benchmarks that reproduce the papers' tables.
+    #[command(subcommand)]
+    Bench(BenchCommand),
+}
+
+#[derive(Subcommand, Debug)]
+enum BenchCommand {
+    /// Reproduce `001` Table 5: small tours 1 and 2 in three navigation modes, small
+    /// exploration GTSP vs greedy, large tour and exploration proposed vs spatial-only; writes
+    /// DIR/table5.json and DIR/table5.md with our figures beside the published ones.
+    Table5 {
+        /// Trials per row on courtyard-small (mission seeds 1..=N).
+        #[arg(long, default_value_t = 25)]
+        trials: usize,
+        /// Trials per row on courtyard-large (default: --trials).
+        #[arg(long)]
+        large_trials: Option<usize>,
+        /// Random worlds the trials cycle through (world seeds 1..=K).
+        #[arg(long, default_value_t = 5)]
+        world_seeds: u64,
+        /// Trials run in parallel (default: the number of CPUs).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Override the scenarios' mission time limit, simulated seconds (for quick runs).
+        #[arg(long)]
+        time_limit: Option<f64>,
+        /// Output directory (created if missing).
+        #[arg(long, short = 'o', default_value = "out/table5")]
+        out: PathBuf,
+    },
 }
 
 #[derive(Subcommand, Debug)]
@@ -226,6 +257,24 @@ fn main() -> ExitCode {
             &strategy,
             seed,
             time_limit,
+            &out,
+        ),
+        Command::Bench(BenchCommand::Table5 {
+            trials,
+            large_trials,
+            world_seeds,
+            jobs,
+            time_limit,
+            out,
+        }) => cmd_bench::table5(
+            &cmd_bench::Table5Options {
+                trials,
+                large_trials: large_trials.unwrap_or(trials),
+                world_seeds,
+                jobs: jobs
+                    .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+                time_limit,
+            },
             &out,
         ),
         Command::Scenario(ScenarioCommand::List) => cmd_scenario::list(),

@@ -9,7 +9,9 @@
 use anyhow::{Result, bail};
 use strider_core::Pose2;
 use strider_explore::evaluate::{NavigationMode, TourResult, run_tour};
-use strider_explore::{GaitSpec, Mission, MissionLog, MissionParams, MissionProgress, Rates, Strategy};
+use strider_explore::{
+    GaitSpec, Mission, MissionLog, MissionParams, MissionProgress, Rates, Strategy,
+};
 use strider_learn::cost_model::CostModelParams;
 use strider_learn::gp::{GpParams, Kernel, KernelKind};
 use strider_map::rect::WorldRect;

@@ -446,7 +446,15 @@ impl Mission {
             self.log.gain_updated += self.gain.last_updated();
             self.spatial = cluster_information(&self.map, &gain, &reach, bounds.as_ref());
             if std::env::var("SPATIAL_DEBUG").is_ok() {
-                eprintln!("SPATIAL t={:.0} cand={} gain_cells={} total={:.1} clusters={} reach={}", self.pose.map_or(0.0, |p| p.stamp), gain.candidates, gain.cells.len(), gain.total(), self.spatial.len(), reach.cells().count());
+                eprintln!(
+                    "SPATIAL t={:.0} cand={} gain_cells={} total={:.1} clusters={} reach={}",
+                    self.pose.map_or(0.0, |p| p.stamp),
+                    gain.candidates,
+                    gain.cells.len(),
+                    gain.total(),
+                    self.spatial.len(),
+                    reach.cells().count()
+                );
             }
             let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
             let visited = &self.visited;
