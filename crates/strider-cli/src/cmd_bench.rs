@@ -30,7 +30,7 @@ use strider_explore::evaluate::NavigationMode;
 use strider_explore::stats::{MannWhitney, Summary, mann_whitney_u, paired_win_fraction};
 
 use crate::cmd_scenario::load;
-use crate::trial::{mission_params, run_mission, run_tours};
+use strider_cli::trial::{mission_params, run_mission, run_tours};
 
 /// Options of `strider bench table5`.
 pub struct Table5Options {

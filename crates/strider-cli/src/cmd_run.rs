@@ -14,7 +14,7 @@ use strider_explore::{Mission, MissionLog, Strategy};
 
 use crate::cmd_scenario::load;
 use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
-use crate::trial::{mission_params, run_mission, run_tours};
+use strider_cli::trial::{mission_params, run_mission, run_tours};
 use strider_core::color::COLOR_PROTOTYPES;
 
 fn median_max(v: &[f64]) -> (f64, f64) {

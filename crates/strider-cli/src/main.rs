@@ -11,7 +11,6 @@ mod cmd_map;
 mod cmd_run;
 mod cmd_scenario;
 mod render;
-mod trial;
 
 use std::path::PathBuf;
 use std::process::ExitCode;

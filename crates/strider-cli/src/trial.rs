@@ -15,7 +15,7 @@ use strider_explore::{
 use strider_learn::cost_model::CostModelParams;
 use strider_learn::gp::{GpParams, Kernel, KernelKind};
 use strider_map::rect::WorldRect;
-use strider_scenario::Scenario;
+use strider_scenario::{Scenario, SensorKind};
 use strider_sim::Simulator;
 
 /// A number from the scenario's `[strategy]` table, or `default`.
@@ -88,6 +88,15 @@ pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<Mi
         strategy,
         rates: Rates::default(),
         max_sites_per_goal: 16,
+        sensor_hfov_deg: sc
+            .robot
+            .sensors
+            .iter()
+            .map(|s| match s.kind {
+                SensorKind::RgbD { hfov_deg, .. } => hfov_deg,
+                SensorKind::Omni { .. } => 360.0,
+            })
+            .collect(),
         seed,
     })
 }

@@ -385,6 +385,15 @@ fn run_writes_a_deterministic_report() {
             out.to_str().unwrap(),
         ]);
         assert!(o.status.success(), "stderr: {}", stderr(&o));
+        let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+        for fig in [
+            "dominant_colour.png",
+            "prediction_tall.png",
+            "exploration_path.png",
+        ] {
+            assert!(html.contains(fig), "report.html shows {fig}");
+            assert!(out.join(fig).exists(), "{fig} written");
+        }
         let text = std::fs::read_to_string(out.join("report.json")).unwrap();
         let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
         let t = v["exploration_time_s"].as_f64().unwrap();
@@ -397,6 +406,7 @@ fn run_writes_a_deterministic_report() {
             "speedup",
             "replan_latency_ms",
             "goal_identification_ms",
+            "phase_wall_s",
         ] {
             v.as_object_mut().unwrap().remove(k);
         }

@@ -14,9 +14,9 @@
 //!   terrain) and not from windows in which it turned by more than 45° (turning in place at
 //!   path corners is the path's time, not the terrain's); the stuck reflex fires only while it
 //!   is commanded to move;
-//! * at a reached spatial goal the robot turns once on the spot, so a limited field of view
-//!   sees the r_sensor disc Eq. 11 assumed; a reached spatial goal is not pursued again within
-//!   2·r_robot;
+//! * at a reached spatial goal a robot whose sensors do not see all around turns once on the
+//!   spot, so a limited field of view sees the r_sensor disc Eq. 11 assumed; a reached spatial
+//!   goal is not pursued again within 2·r_robot;
 //! * goals none of whose sites is reachable on the current planning grid are not pursued; the
 //!   exploration ends (decision 25) when no reachable goal remains after the spatial and
 //!   learning modules have both run, or at the time limit.
@@ -445,17 +445,6 @@ impl Mission {
             self.log.gain_evaluated += self.gain.last_evaluated();
             self.log.gain_updated += self.gain.last_updated();
             self.spatial = cluster_information(&self.map, &gain, &reach, bounds.as_ref());
-            if std::env::var("SPATIAL_DEBUG").is_ok() {
-                eprintln!(
-                    "SPATIAL t={:.0} cand={} gain_cells={} total={:.1} clusters={} reach={}",
-                    self.pose.map_or(0.0, |p| p.stamp),
-                    gain.candidates,
-                    gain.cells.len(),
-                    gain.total(),
-                    self.spatial.len(),
-                    reach.cells().count()
-                );
-            }
             let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
             let visited = &self.visited;
             self.spatial
@@ -556,8 +545,11 @@ impl Mission {
             self.visited.push(c);
             let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
             self.spatial.retain(|g| g.cell.dist_cells(c) > r);
-            self.start_look_around(robot, t);
-            return None;
+            if self.params.needs_look_around() {
+                self.start_look_around(robot, t);
+                return None;
+            }
+            self.current = None;
         }
         if reached && let Some((GoalKey::Cost { gait, .. }, _)) = self.current {
             // Lines 12–15: sample the reached cost goal with its gait.
@@ -774,8 +766,9 @@ impl SensorSink for Mission {
         }
     }
 
-    /// Keyframes: a scan is fused when the robot moved at least max(d_ν, r_sensor/50) or turned
-    /// at least 10° since the last fused scan of that sensor. In a static world a scan from
+    /// Keyframes: a scan is fused when the robot moved at least max(d_ν, r_sensor/50) or (for a
+    /// sensor with a limited field of view) turned at least 10° since the last fused scan of
+    /// that sensor. In a static world a scan from
     /// (almost) the same pose adds nothing to the map; skipping it lets the simulator skip
     /// producing it.
     fn wants_cloud(&self, sensor: u8) -> bool {
@@ -785,7 +778,9 @@ impl SensorSink for Mission {
         let dist = ((p.position.x - k.0).powi(2) + (p.position.y - k.1).powi(2)).sqrt();
         let turn = strider_core::geom::wrap_angle(p.yaw - k.2).abs();
         let mp = self.map.params();
-        dist >= mp.cell_size.max(mp.r_sensor / 50.0) || turn >= 10f64.to_radians()
+        // Turning shows an omnidirectional sensor nothing new.
+        let turned = !self.params.sees_all_around(sensor as usize) && turn >= 10f64.to_radians();
+        dist >= mp.cell_size.max(mp.r_sensor / 50.0) || turned
     }
 
     fn on_cloud(&mut self, cloud: &PointCloud) {

@@ -105,6 +105,10 @@ pub struct MissionParams {
     pub rates: Rates,
     /// Sampling sites kept per cost goal in the GTSP instance (decision 23).
     pub max_sites_per_goal: usize,
+    /// Horizontal field of view of each sensor (by sensor id), degrees; 360 for an
+    /// omnidirectional sensor. Missing entries count as 360. A sensor that sees all around
+    /// needs neither the look-around at spatial goals nor scans taken for turning alone.
+    pub sensor_hfov_deg: Vec<f64>,
     /// Seed of every random choice of the mission (IGNG batches, GTSP).
     pub seed: u64,
 }
@@ -122,6 +126,17 @@ impl MissionParams {
     }
 
     /// The fastest gait (ties: the lowest index): the start gait and the reactive gait.
+    /// True when sensor `id` sees all around (horizontal field of view ≥ 360°).
+    pub fn sees_all_around(&self, id: usize) -> bool {
+        self.sensor_hfov_deg.get(id).is_none_or(|&f| f >= 360.0)
+    }
+
+    /// True when the sensors together see all around the robot without turning (every
+    /// sensor omnidirectional, or none given).
+    pub fn needs_look_around(&self) -> bool {
+        !(0..self.sensor_hfov_deg.len().max(1)).all(|k| self.sees_all_around(k))
+    }
+
     pub fn fastest_gait(&self) -> GaitId {
         let g = &self.gaits;
         GaitId(

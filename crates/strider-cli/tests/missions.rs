@@ -1,0 +1,160 @@
+//! Invariants of exploration missions over many seeds, with the simulator as the judge: the
+//! robot's centre never enters a cell that is inadmissible in the ground truth, bounded
+//! explorations terminate on their own, and the mission's code cannot reach the simulator.
+
+use std::collections::BTreeSet;
+
+use strider_core::interface::{MotionState, Robot, SensorSink};
+use strider_core::{GaitId, Point2};
+use strider_explore::{Mission, Strategy, Termination};
+use strider_scenario::Scenario;
+use strider_scenario::ground_truth::point_in_mask;
+use strider_sim::Simulator;
+
+use strider_cli::trial::mission_params;
+
+/// The simulator behind the robot interface, judging every step against the ground truth.
+struct Judge {
+    sim: Simulator,
+    admissible: Vec<bool>,
+    /// Ticks whose pose had its centre in a ground-truth inadmissible cell, with the pose.
+    violations: Vec<(f64, Point2)>,
+}
+
+impl Judge {
+    fn new(sc: &Scenario, seed: u64) -> Self {
+        let sim = Simulator::new(sc, seed).expect("simulator");
+        let admissible = sc.world.gt_admissible(sc.map.rho_obstacle, sc.map.r_robot);
+        Self {
+            sim,
+            admissible,
+            violations: Vec::new(),
+        }
+    }
+}
+
+impl Robot for Judge {
+    type Error = <Simulator as Robot>::Error;
+    fn now(&self) -> f64 {
+        self.sim.now()
+    }
+    fn follow(&mut self, path: &[Point2]) {
+        self.sim.follow(path);
+    }
+    fn set_gait(&mut self, gait: GaitId) {
+        self.sim.set_gait(gait);
+    }
+    fn advance(&mut self, dt: f64, sink: &mut dyn SensorSink) -> Result<MotionState, Self::Error> {
+        let s = self.sim.advance(dt, sink)?;
+        let p = self.sim.pose();
+        let c = Point2::new(p.x, p.y);
+        if !point_in_mask(self.sim.world(), &self.admissible, c) {
+            self.violations.push((self.sim.now(), c));
+        }
+        Ok(s)
+    }
+}
+
+fn scenario(name: &str, world_seed: u64) -> Scenario {
+    Scenario::from_name_or_file(name, world_seed).expect("built-in scenario")
+}
+
+/// Over several worlds with walls and boxes, mission and world seeds and all
+/// three strategies, the robot's centre stays in ground-truth admissible cells for the whole
+/// (time-limited) mission.
+#[test]
+fn centre_never_enters_an_inadmissible_cell() {
+    let mut checked = 0usize;
+    for (name, world_seed, seed, strategy) in [
+        ("escape-arena", 1, 1, Strategy::Gtsp),
+        ("escape-arena", 2, 2, Strategy::Greedy),
+        ("escape-arena", 3, 3, Strategy::SpatialOnly),
+        ("escape-arena", 4, 4, Strategy::Gtsp),
+        ("courtyard-small", 2, 5, Strategy::Gtsp),
+        ("courtyard-small", 3, 6, Strategy::Greedy),
+    ] {
+        let sc = scenario(name, world_seed);
+        let mut params = mission_params(&sc, strategy, seed).expect("params");
+        params.time_limit_s = 150.0;
+        let mut judge = Judge::new(&sc, seed);
+        let mut mission = Mission::new(params).expect("mission");
+        let log = mission.run(&mut judge).expect("mission runs").clone();
+        assert!(log.driven_m > 0.3, "seed {seed}: the robot hardly moved");
+        assert!(
+            judge.violations.is_empty(),
+            "{name} world {world_seed} seed {seed} {strategy:?}: centre in inadmissible cells at {:?}",
+            &judge.violations[..judge.violations.len().min(5)]
+        );
+        checked += 1;
+    }
+    assert_eq!(checked, 6);
+}
+
+/// Explorations of a bounded area end by themselves (goals cleared or none reachable), well
+/// before the time limit, whatever the seed and strategy; and the same seed gives the same
+/// mission.
+#[test]
+fn bounded_explorations_terminate_and_repeat_exactly() {
+    let mut ends = BTreeSet::new();
+    for (world_seed, seed, strategy) in [
+        (1, 1, Strategy::Gtsp),
+        (2, 7, Strategy::Greedy),
+        (3, 8, Strategy::SpatialOnly),
+        (4, 9, Strategy::Gtsp),
+    ] {
+        let mut sc = scenario("courtyard-small", world_seed);
+        // A 1.6 × 1.6 m square around the start.
+        let s = sc.start;
+        sc.bounds.min = Point2::new(s.x - 0.8, s.y - 0.8);
+        sc.bounds.max = Point2::new(s.x + 0.8, s.y + 0.8);
+        let run = || {
+            let mut params = mission_params(&sc, strategy, seed).expect("params");
+            params.time_limit_s = 1500.0;
+            let mut sim = Simulator::new(&sc, seed).expect("simulator");
+            let mut mission = Mission::new(params).expect("mission");
+            let log = mission.run(&mut sim).expect("mission runs").clone();
+            (log, mission.map().observed_count())
+        };
+        let (a, cells_a) = run();
+        assert_ne!(
+            a.termination,
+            Termination::TimeLimit,
+            "world {world_seed} seed {seed} {strategy:?} did not terminate in {} s",
+            a.exploration_time_s
+        );
+        ends.insert(format!("{:?}", a.termination));
+        let (b, cells_b) = run();
+        assert_eq!(a.trajectory, b.trajectory, "same seed, same trajectory");
+        assert_eq!(a.termination, b.termination);
+        assert_eq!(a.cost_samples, b.cost_samples);
+        assert_eq!(cells_a, cells_b);
+    }
+    assert!(!ends.is_empty());
+}
+
+/// The learning, mapping, planning and exploration crates cannot read simulator ground truth:
+/// none of them depends on the simulator or the scenario crate (normal dependencies).
+#[test]
+fn algorithm_crates_do_not_depend_on_the_simulator() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    for krate in [
+        "strider-core",
+        "strider-map",
+        "strider-learn",
+        "strider-plan",
+        "strider-explore",
+    ] {
+        let toml = std::fs::read_to_string(root.join(krate).join("Cargo.toml")).expect(krate);
+        // The [dependencies] table only (dev-dependencies may use anything).
+        let deps: String = toml
+            .split("\n[")
+            .filter(|sec| sec.starts_with("dependencies]") || sec.starts_with("[dependencies]"))
+            .collect();
+        for forbidden in ["strider-sim", "strider-scenario", "strider-cli"] {
+            assert!(
+                !deps.contains(forbidden),
+                "{krate} depends on {forbidden}: the algorithms must not see the simulator"
+            );
+        }
+    }
+}
