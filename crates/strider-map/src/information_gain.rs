@@ -12,7 +12,7 @@
 //! work runs on a dense view of the known area grown by r_sensor, in parallel over candidates.
 
 use crate::map::ElevationMap;
-use crate::observability::{ray_clear, target_height};
+use crate::observability::{ray_clear, ray_clear_pair, target_height};
 use crate::passability::disc_reach;
 use crate::reachability::Reachability;
 use crate::rect::{self, WorldRect, in_bounds};
@@ -436,10 +436,20 @@ impl GainView {
                 return;
             };
             let (g1, g0) = (self.icount[idx], old.icount[idx]);
-            if g1 > 0 && ray_clear(c, t, zs, zt, d, |x| self.elevation(x)) {
+            let (clear1, clear0) = ray_clear_pair(
+                c,
+                t,
+                zs,
+                zt,
+                d,
+                |x| self.elevation(x),
+                |x| elevation_in(old.elev, self.rect, x),
+                (g1 > 0, g0 > 0),
+            );
+            if g1 > 0 && clear1 {
                 delta += g1 as i64;
             }
-            if g0 > 0 && ray_clear(c, t, zs, zt, d, |x| elevation_in(old.elev, self.rect, x)) {
+            if g0 > 0 && clear0 {
                 delta -= g0 as i64;
             }
         };
