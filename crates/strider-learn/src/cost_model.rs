@@ -220,6 +220,9 @@ pub struct GaitCostModel {
     plan_class: Vec<TerrainCell>,
     /// I_C per class of the last update.
     class_gain: HashMap<ClassId, f64>,
+    /// Regressor predictions (descriptor, mean, latent variance) per cell since the last
+    /// update, for the novelty test.
+    novelty_cache: HashMap<Cell, (Vec<f64>, f64, f64)>,
     /// Class predictions of the last update (clamped mean).
     class_cost: HashMap<ClassId, f64>,
     rejected_costs: usize,
@@ -269,6 +272,7 @@ impl GaitCostModel {
             learn_class: Vec::new(),
             plan_class: Vec::new(),
             class_gain: HashMap::new(),
+            novelty_cache: HashMap::new(),
             class_cost: HashMap::new(),
             rejected_costs: 0,
             cell_size: 0.05,
@@ -413,8 +417,9 @@ impl GaitCostModel {
                     self.measured.push(cell);
                 }
             }
-            self.sync_learning_pair(cell, desc)?;
         }
+        // The learning set follows at the next update (Alg. 5 relearns the regressor at the
+        // learning rate; the novelty test uses the latest learned one).
         Ok(Insertion::Stored)
     }
 
@@ -430,8 +435,12 @@ impl GaitCostModel {
 
     /// Novelty (§4.3.2): no regressor yet, or outside the 2σ predictive interval, or the cell's
     /// class can still give information.
-    fn is_novel(&self, c: Cell, z: f64, desc: &DescriptorField) -> bool {
-        if !self.has_regressor() {
+    ///
+    /// The regressor changes only at updates, so its prediction at a cell is cached until the
+    /// next update (keyed by the cell and checked against its descriptor): the robot measures
+    /// the same cells many times at 20 Hz, and a prediction costs O(n²).
+    fn is_novel(&mut self, c: Cell, z: f64, desc: &DescriptorField) -> bool {
+        if !self.has_regressor() || self.cell_information_gain(c) > 0.0 {
             return true;
         }
         let Some(x) = desc.get(c) else {
@@ -439,25 +448,34 @@ impl GaitCostModel {
             // the learning set once the cell is described.
             return true;
         };
-        let p = self.gp.predict(x);
-        let noisy = p.latent_variance.max(0.0) + self.params.gp.noise_variance;
-        (p.mean - z).abs() > 2.0 * noisy.sqrt() || self.cell_information_gain(c) > 0.0
+        let (mean, latent) = match self.novelty_cache.get(&c) {
+            Some((xc, m, v)) if xc[..] == x[..] => (*m, *v),
+            _ => {
+                let p = self.gp.predict(x);
+                self.novelty_cache
+                    .insert(c, (x.to_vec(), p.mean, p.latent_variance));
+                (p.mean, p.latent_variance)
+            }
+        };
+        let noisy = latent.max(0.0) + self.params.gp.noise_variance;
+        (mean - z).abs() > 2.0 * noisy.sqrt()
     }
 
     /// Makes the learning pair of `cell` match its current cost and descriptor: add, replace or
-    /// remove its GP training point.
+    /// remove its GP training point. A pair whose descriptor is unchanged but whose target
+    /// changed is not touched: its new target is returned for a batched [`Gp::set_ys`].
     fn sync_learning_pair(
         &mut self,
         cell: Cell,
         desc: &DescriptorField,
-    ) -> Result<(), CostModelError> {
+    ) -> Result<Option<f64>, CostModelError> {
         let cost = self.costs.get(&cell).map(|k| k.cost);
         let x = desc.get(cell);
         match (self.learn_index.get(&cell).copied(), cost, x) {
             (Some(i), Some(y), Some(x)) => {
                 if self.gp.x(i) == x {
                     if self.gp.y(i) != y {
-                        self.gp.set_y(i, y)?;
+                        return Ok(Some(y));
                     }
                 } else {
                     self.gp.replace(i, x, y)?;
@@ -478,7 +496,7 @@ impl GaitCostModel {
             }
             (None, _, _) => {}
         }
-        Ok(())
+        Ok(None)
     }
 
     /// Alg. 6 for this gait: refreshes the learning set against the current descriptors,
@@ -492,11 +510,21 @@ impl GaitCostModel {
         desc: &DescriptorField,
     ) -> Result<ModelUpdate, CostModelError> {
         self.check_dim(desc)?;
-        // Alg. 5 lines 4–6: L = described cells with a measured cost.
+        // Alg. 5 lines 4–6: L = described cells with a measured cost. Targets that merely
+        // changed are applied together at the end (one solve for all of them).
+        self.novelty_cache.clear();
+        let mut new_targets: Vec<(Cell, f64)> = Vec::new();
         for k in 0..self.measured.len() {
             let cell = self.measured[k];
-            self.sync_learning_pair(cell, desc)?;
+            if let Some(y) = self.sync_learning_pair(cell, desc)? {
+                new_targets.push((cell, y));
+            }
         }
+        let changes: Vec<(usize, f64)> = new_targets
+            .iter()
+            .filter_map(|&(c, y)| self.learn_index.get(&c).map(|&i| (i, y)))
+            .collect();
+        self.gp.set_ys(&changes)?;
         self.rect = desc.rect();
         self.cell_size = map.cell_size();
         let n = self.rect.len();

@@ -133,14 +133,15 @@ proptest! {
         }
     }
 
-    /// Removing or replacing points equals a refit of the remaining set.
+    /// Removing or replacing points and changing targets (one or several at once) equals a
+    /// refit of the remaining set.
     #[test]
     fn remove_and_replace_equal_a_refit(
         seed in 0u64..1_000_000,
         n in 2usize..24,
         d in 1usize..4,
         kind in 0usize..4,
-        ops in proptest::collection::vec((0usize..3, 0usize..1000), 1..8),
+        ops in proptest::collection::vec((0usize..4, 0usize..1000), 1..8),
     ) {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let (x, y) = random_data(&mut rng, n, d);
@@ -166,10 +167,18 @@ proptest! {
                     xs[i] = nx;
                     ys[i] = ny;
                 }
-                _ => {
+                2 => {
                     let ny = rng.random_range(-1.0..1.0);
                     gp.set_y(i, ny).unwrap();
                     ys[i] = ny;
+                }
+                _ => {
+                    // Several targets at once (indices may repeat: the last one wins).
+                    let j = (i * 7 + 3) % xs.len();
+                    let (a, b) = (rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+                    gp.set_ys(&[(i, a), (j, b)]).unwrap();
+                    ys[i] = a;
+                    ys[j] = b;
                 }
             }
             prop_assert_eq!(gp.len(), xs.len());

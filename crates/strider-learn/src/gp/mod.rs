@@ -366,6 +366,26 @@ impl Gp {
         Ok(())
     }
 
+    /// Changes the targets of several training points at once: L stays, w is re-solved once
+    /// from the lowest storage row touched (one O(n²) solve instead of one per point). Atomic:
+    /// on an invalid index or target nothing changes.
+    pub fn set_ys(&mut self, changes: &[(usize, f64)]) -> Result<(), GpError> {
+        for &(i, y) in changes {
+            self.check_index(i)?;
+            check_y(y, i)?;
+        }
+        let mut lowest = usize::MAX;
+        for &(i, y) in changes {
+            let p = self.perm[i];
+            self.y[p] = y;
+            lowest = lowest.min(p);
+        }
+        if lowest != usize::MAX {
+            self.resolve_w_from(lowest);
+        }
+        Ok(())
+    }
+
     /// Predicts at one input (allocates a scratch vector of n; see [`Gp::predict_with`]).
     ///
     /// # Panics
