@@ -12,7 +12,7 @@
 //! work runs on a dense view of the known area grown by r_sensor, in parallel over candidates.
 
 use crate::map::ElevationMap;
-use crate::observability::{ray_clear, ray_clear_pair, target_height};
+use crate::observability::{ray_clear, target_height};
 use crate::passability::disc_reach;
 use crate::reachability::Reachability;
 use crate::rect::{self, WorldRect, in_bounds};
@@ -302,7 +302,7 @@ impl GainView {
 
     /// 9·I_model(ν) (Eq. 11).
     fn model_count(&self, c: Cell, disc: &DiscTable, h: f64, d: f64) -> u32 {
-        self.model_count_with(c, disc, h, d, &mut Scratch::default())
+        self.model_count_with(c, disc, h, d, &mut Scratch::default(), None)
     }
 
     /// [`GainView::model_count`] with reusable scratch space.
@@ -318,7 +318,11 @@ impl GainView {
         h: f64,
         d: f64,
         scratch: &mut Scratch,
+        mut vis: Option<&mut [u64]>,
     ) -> u32 {
+        if let Some(v) = vis.as_deref_mut() {
+            v.fill(0);
+        }
         let Some(ef) = self.elevation(c) else {
             return 0;
         };
@@ -345,14 +349,17 @@ impl GainView {
         }
         let elev = |x: Cell| self.elevation(x);
         if ray_work < disc.entries.len() {
-            return targets
-                .iter()
-                .filter(|&&(k, _)| {
-                    let e = disc.entries[k as usize];
-                    ray_clear(c, c.offset(e.di, e.dj), zs, zt, d, elev)
-                })
-                .map(|&(_, g)| g as u32)
-                .sum();
+            let mut sum = 0u32;
+            for &(k, g) in targets.iter() {
+                let e = disc.entries[k as usize];
+                if ray_clear(c, c.offset(e.di, e.dj), zs, zt, d, elev) {
+                    sum += g as u32;
+                    if let Some(v) = vis.as_deref_mut() {
+                        set_bit(v, k as usize);
+                    }
+                }
+            }
+            return sum;
         }
         // Only known cells above min(sensor, target) = ef can block a ray to an unknown
         // target, and only over their shadow interval of target distances. Each such cell
@@ -392,20 +399,25 @@ impl GainView {
             };
             if !maybe_blocked || ray_clear(c, c.offset(e.di, e.dj), zs, zt, d, elev) {
                 sum += g as u32;
+                if let Some(v) = vis.as_deref_mut() {
+                    set_bit(v, k as usize);
+                }
             }
         }
         sum
     }
 
     /// The change of 9·I_model at candidate `c` from the view `old` (same rectangle) to this
-    /// one, given the cells that differ between them (`changed`; `c` not among them).
+    /// one, given the cells that differ between them (`changed`; `c` not among them) and the
+    /// visibility of every target that was unknown in `old` (`vis`, one bit per disc entry),
+    /// which it brings up to date.
     ///
     /// A target's term I_cell(t)·observable(c, t) can change only if (a) I_cell(t) changed,
     /// i.e. t is a changed cell or one of its 8-neighbours, or (b) a changed cell on the ray
     /// could block in either view, i.e. rises above ef in one of them; the targets it can
     /// shadow lie in its direction bins within its shadow interval (computed with the higher
-    /// of its two elevations, which covers both views). Each such target is visited once and
-    /// its term re-evaluated in both views.
+    /// of its two elevations, which covers both views). Targets of (b) are cast again in the
+    /// new view; for the others of (a) the sight line is unchanged and the stored bit serves.
     #[allow(clippy::too_many_arguments)]
     fn delta_count(
         &self,
@@ -416,6 +428,7 @@ impl GainView {
         h: f64,
         d: f64,
         scratch: &mut Scratch,
+        vis: &mut [u64],
     ) -> i64 {
         let Some(ef) = self.elevation(c) else {
             return 0;
@@ -425,48 +438,15 @@ impl GainView {
         scratch.next_stamp(disc.entries.len());
         let reach = disc.reach as i32 + 1;
         let mut delta = 0i64;
-        let mut visit = |k: usize, scratch: &mut Scratch| {
-            if scratch.seen[k] == scratch.stamp {
-                return;
-            }
-            scratch.seen[k] = scratch.stamp;
-            let e = disc.entries[k];
-            let t = c.offset(e.di, e.dj);
-            let Some(idx) = self.rect.index(t) else {
-                return;
-            };
-            let (g1, g0) = (self.icount[idx], old.icount[idx]);
-            let (clear1, clear0) = ray_clear_pair(
-                c,
-                t,
-                zs,
-                zt,
-                d,
-                |x| self.elevation(x),
-                |x| elevation_in(old.elev, self.rect, x),
-                (g1 > 0, g0 > 0),
-            );
-            if g1 > 0 && clear1 {
-                delta += g1 as i64;
-            }
-            if g0 > 0 && clear0 {
-                delta -= g0 as i64;
-            }
-        };
-        for &x in changed {
+        let in_range = |x: Cell| {
             let (dx, dy) = (x.i - c.i, x.j - c.j);
-            if dx.abs() > reach || dy.abs() > reach {
+            (dx.abs() <= reach && dy.abs() <= reach).then_some((dx, dy))
+        };
+        // (b) first: sight lines that may have changed are cast again.
+        for &x in changed {
+            let Some((dx, dy)) = in_range(x) else {
                 continue;
-            }
-            // (a) I_cell changed at x and its neighbours.
-            for oy in -1..=1 {
-                for ox in -1..=1 {
-                    if let Some(k) = disc.entry_of(dx + ox, dy + oy) {
-                        visit(k, scratch);
-                    }
-                }
-            }
-            // (b) x may block (or have blocked) sight lines behind it.
+            };
             let Some(kx) = disc.entry_of(dx, dy) else {
                 continue;
             };
@@ -483,15 +463,84 @@ impl GainView {
                         [disc.by_bin_start[bin] as usize..disc.by_bin_start[bin + 1] as usize];
                     let from = group.partition_point(|&k| disc.entries[k as usize].r < start);
                     for &k in &group[from..] {
-                        if disc.entries[k as usize].r > end {
+                        let k = k as usize;
+                        let e = disc.entries[k];
+                        if e.r > end {
                             break;
                         }
-                        visit(k as usize, scratch);
+                        if scratch.seen[k] == scratch.stamp {
+                            continue;
+                        }
+                        scratch.seen[k] = scratch.stamp;
+                        let t = c.offset(e.di, e.dj);
+                        let Some(idx) = self.rect.index(t) else {
+                            continue;
+                        };
+                        let (g1, g0) = (self.icount[idx], old.icount[idx]);
+                        let was = g0 > 0 && get_bit(vis, k);
+                        let now = g1 > 0 && ray_clear(c, t, zs, zt, d, |y| self.elevation(y));
+                        delta += if now { g1 as i64 } else { 0 } - if was { g0 as i64 } else { 0 };
+                        put_bit(vis, k, now);
                     }
                 }
             }
         }
+        // (a) the rest: I_cell changed, the sight line did not.
+        for &x in changed {
+            let Some((dx, dy)) = in_range(x) else {
+                continue;
+            };
+            for oy in -1..=1 {
+                for ox in -1..=1 {
+                    let Some(k) = disc.entry_of(dx + ox, dy + oy) else {
+                        continue;
+                    };
+                    if scratch.seen[k] == scratch.stamp {
+                        continue;
+                    }
+                    scratch.seen[k] = scratch.stamp;
+                    let e = disc.entries[k];
+                    let t = c.offset(e.di, e.dj);
+                    let Some(idx) = self.rect.index(t) else {
+                        continue;
+                    };
+                    let (g1, g0) = (self.icount[idx], old.icount[idx]);
+                    if g1 == g0 {
+                        continue;
+                    }
+                    let clear = if g0 > 0 {
+                        get_bit(vis, k)
+                    } else {
+                        // Unknown again (not in practice): no stored bit to trust.
+                        ray_clear(c, t, zs, zt, d, |y| self.elevation(y))
+                    };
+                    if clear {
+                        delta += g1 as i64 - g0 as i64;
+                    }
+                    put_bit(vis, k, clear && g1 > 0);
+                }
+            }
+        }
         delta
+    }
+}
+
+#[inline]
+fn set_bit(v: &mut [u64], k: usize) {
+    v[k / 64] |= 1 << (k % 64);
+}
+
+#[inline]
+fn get_bit(v: &[u64], k: usize) -> bool {
+    v[k / 64] >> (k % 64) & 1 == 1
+}
+
+#[inline]
+fn put_bit(v: &mut [u64], k: usize, on: bool) {
+    if on {
+        set_bit(v, k);
+    } else {
+        v[k / 64] &= !(1 << (k % 64));
     }
 }
 
@@ -611,7 +660,7 @@ pub fn information_gain(
     let counts: Vec<u32> = candidates
         .par_iter()
         .map_init(Scratch::default, |s, &c| {
-            view.model_count_with(c, &disc, p.sensor_height, d, s)
+            view.model_count_with(c, &disc, p.sensor_height, d, s, None)
         })
         .collect();
     collect_gains(candidates, counts)
@@ -656,6 +705,9 @@ pub struct GainCache {
     view: Option<GainView>,
     /// Cached 9·I_model per view cell ([`NOT_CACHED`] = none).
     counts: Vec<u32>,
+    /// Per cached view cell, the visibility of each disc target unknown at the last
+    /// evaluation (one bit per disc entry); empty when not cached.
+    vis: Vec<Vec<u64>>,
     bounds: Option<WorldRect>,
     disc: Option<(f64, f64, DiscTable)>,
     dz: f32,
@@ -727,6 +779,7 @@ impl GainCache {
             };
             self.view = Some(GainView::new(map, rect, bounds));
             self.counts = vec![NOT_CACHED; rect.len()];
+            self.vis = vec![Vec::new(); rect.len()];
             self.bounds = bounds.copied();
         } else if let Some(v) = self.view.as_mut() {
             // Follow the map: cells that became observed or moved by more than dz.
@@ -778,6 +831,7 @@ impl GainCache {
                     }
                     if changed[k] || near > max_changes || !is_candidate[k] {
                         *n = NOT_CACHED;
+                        self.vis[k] = Vec::new();
                     } else {
                         deltas.push((k, c));
                     }
@@ -793,10 +847,13 @@ impl GainCache {
             .filter_map(|&c| view.rect.index(c).map(|k| (k, c)))
             .filter(|&(k, _)| self.counts[k] == NOT_CACHED)
             .collect();
-        let fresh: Vec<u32> = todo
+        let words = disc.entries.len().div_ceil(64);
+        let fresh: Vec<(u32, Vec<u64>)> = todo
             .par_iter()
             .map_init(Scratch::default, |s, &(_, c)| {
-                view.model_count_with(c, disc, h, d, s)
+                let mut vis = vec![0u64; words];
+                let n = view.model_count_with(c, disc, h, d, s, Some(&mut vis));
+                (n, vis)
             })
             .collect();
         if let Some((old_elev, old_icount)) = &old {
@@ -805,21 +862,25 @@ impl GainCache {
                 icount: old_icount,
             };
             let changed = &changed_cells;
-            let updates: Vec<i64> = deltas
-                .par_iter()
-                .map_init(Scratch::default, |s, &(_, c)| {
-                    view.delta_count(&ov, c, changed, disc, h, d, s)
-                })
+            let mut work: Vec<(usize, Cell, Vec<u64>, i64)> = deltas
+                .iter()
+                .map(|&(k, c)| (k, c, std::mem::take(&mut self.vis[k]), 0))
                 .collect();
-            for (&(k, _), dn) in deltas.iter().zip(updates) {
+            work.par_iter_mut()
+                .for_each_init(Scratch::default, |s, (_, c, vis, dn)| {
+                    *dn = view.delta_count(&ov, *c, changed, disc, h, d, s, vis);
+                });
+            for (k, _, vis, dn) in work {
                 let n = self.counts[k] as i64 + dn;
                 debug_assert!(n >= 0, "negative Eq. 11 count");
                 self.counts[k] = n.max(0) as u32;
+                self.vis[k] = vis;
             }
         }
         self.last = (todo.len(), deltas.len());
-        for (&(k, _), n) in todo.iter().zip(fresh) {
+        for (&(k, _), (n, vis)) in todo.iter().zip(fresh) {
             self.counts[k] = n;
+            self.vis[k] = vis;
         }
         let counts = candidates
             .iter()

@@ -67,39 +67,6 @@ pub fn ray_clear(
     true
 }
 
-/// [`ray_clear`] of one segment in two elevation maps at once (one traversal), for the maps
-/// flagged in `need` (the other answer is `true`). An incremental update compares a sight line
-/// before and after a map change this way.
-#[allow(clippy::too_many_arguments)]
-pub fn ray_clear_pair(
-    from: Cell,
-    to: Cell,
-    sensor_z: f64,
-    target_z: f64,
-    d: f64,
-    elev_a: impl Fn(Cell) -> Option<f32>,
-    elev_b: impl Fn(Cell) -> Option<f32>,
-    need: (bool, bool),
-) -> (bool, bool) {
-    let (mut clear_a, mut clear_b) = (true, true);
-    if from == to || !(need.0 || need.1) {
-        return (clear_a, clear_b);
-    }
-    let seg = Segment::new(from, to, sensor_z, target_z, d);
-    for c in CellRay::new(seg.a, seg.b, d) {
-        if need.0 && clear_a && seg.blocked_at(c, &elev_a) {
-            clear_a = false;
-        }
-        if need.1 && clear_b && seg.blocked_at(c, &elev_b) {
-            clear_b = false;
-        }
-        if (!need.0 || !clear_a) && (!need.1 || !clear_b) {
-            break;
-        }
-    }
-    (clear_a, clear_b)
-}
-
 /// A sight line from the sensor above the centre of `from` to the target point above the
 /// centre of `to`.
 struct Segment {
@@ -267,35 +234,6 @@ mod tests {
     const N: usize = 8;
 
     proptest! {
-        /// One traversal in two maps answers what two single traversals answer.
-        #[test]
-        fn pair_equals_two_single_casts(
-            ha in proptest::collection::vec(0.0f32..1.0, N * N),
-            hb in proptest::collection::vec(0.0f32..1.0, N * N),
-            known in proptest::collection::vec(0u8..4, N * N),
-            fi in 0..N as i32, fj in 0..N as i32, ti in 0..N as i32, tj in 0..N as i32,
-            need in (proptest::bool::ANY, proptest::bool::ANY),
-        ) {
-            let map = |h: &[f32], bit: u8| {
-                let h = h.to_vec();
-                let known = known.clone();
-                move |c: Cell| -> Option<f32> {
-                    if c.i < 0 || c.j < 0 || c.i >= N as i32 || c.j >= N as i32 { return None; }
-                    let k = c.j as usize * N + c.i as usize;
-                    (known[k] & bit != 0).then_some(h[k])
-                }
-            };
-            let (ea, eb) = (map(&ha, 1), map(&hb, 2));
-            let (from, to) = (Cell::new(fi, fj), Cell::new(ti, tj));
-            let (zs, zt) = (0.6, 0.1);
-            let pair = ray_clear_pair(from, to, zs, zt, 0.1, &ea, &eb, need);
-            let single = (
-                !need.0 || ray_clear(from, to, zs, zt, 0.1, &ea),
-                !need.1 || ray_clear(from, to, zs, zt, 0.1, &eb),
-            );
-            prop_assert_eq!(pair, single);
-        }
-
         /// Exact per-cell test against fine sampling of the segment (`S` samples). They must
         /// agree, except that sampling may miss a blockage whose blocking sub-interval (the
         /// part of a cell's parameter interval where the segment is below the cell's surface)
