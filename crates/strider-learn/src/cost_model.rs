@@ -330,6 +330,32 @@ impl GaitCostModel {
         &self.igng
     }
 
+    /// [`GaitCostModel::predict`] at many descriptors (`xs`: q × dim, row-major), blocked and
+    /// in parallel ([`Gp::predict_batch`]); the prior where there is no regressor or the input
+    /// does not fit.
+    pub fn predict_many(&self, xs: &[f64]) -> Vec<(f64, f64)> {
+        let q = if self.dim == 0 {
+            0
+        } else {
+            xs.len() / self.dim
+        };
+        let prior = (
+            self.clamp(self.params.gp.prior_mean),
+            self.params.gp.kernel.prior_variance(),
+        );
+        if !self.has_regressor() || xs.len() != q * self.dim {
+            return vec![prior; q];
+        }
+        let (mut mean, mut var) = (vec![0.0; q], vec![0.0; q]);
+        if self.gp.predict_batch(xs, &mut mean, &mut var).is_err() {
+            return vec![prior; q];
+        }
+        mean.into_iter()
+            .zip(var)
+            .map(|(m, v)| (self.clamp(m), v.max(0.0)))
+            .collect()
+    }
+
     /// Predicted cost distribution N(μ̂_c, σ̂_c²) at a descriptor (Eq. 14): the mean clamped to
     /// [1, c_max] and the latent variance; the prior (1, σ_s²) while there is no regressor.
     pub fn predict(&self, x: &[f64]) -> (f64, f64) {
