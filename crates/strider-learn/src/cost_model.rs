@@ -334,11 +334,7 @@ impl GaitCostModel {
     /// in parallel ([`Gp::predict_batch`]); the prior where there is no regressor or the input
     /// does not fit.
     pub fn predict_many(&self, xs: &[f64]) -> Vec<(f64, f64)> {
-        let q = if self.dim == 0 {
-            0
-        } else {
-            xs.len() / self.dim
-        };
+        let q = xs.len().checked_div(self.dim).unwrap_or(0);
         let prior = (
             self.clamp(self.params.gp.prior_mean),
             self.params.gp.kernel.prior_variance(),
