@@ -76,6 +76,10 @@ struct DiscEntry {
     /// +x axis); none for the centre.
     spans: [(u16, u16); 2],
     n_spans: u8,
+    /// Bins strictly inside the cell's angular extent, one bin away from its corner
+    /// directions (inclusive; `lo > hi` when none, or when the cell straddles the +x axis):
+    /// a sight line in such a bin crosses the cell's interior.
+    inner: (u16, u16),
 }
 
 impl DiscEntry {
@@ -134,6 +138,7 @@ impl DiscTable {
             bin: 0,
             spans: [(0, 0); 2],
             n_spans: 0,
+            inner: (1, 0),
         };
         if (di, dj) == (0, 0) {
             return e;
@@ -144,6 +149,9 @@ impl DiscTable {
             .map(|(ox, oy)| angle_bin(x + ox, y + oy) as i64);
         let lo = bins.iter().copied().min().unwrap_or(0);
         let hi = bins.iter().copied().max().unwrap_or(0);
+        if hi - lo <= n / 2 && hi - lo >= 2 {
+            e.inner = ((lo + 1) as u16, (hi - 1) as u16);
+        }
         if hi - lo > n / 2 {
             // The cell straddles direction 0 (the +x axis): the bins just below n and just
             // above 0, each with its margin (lo_w − 1 ≥ n/2 − 1, hi_w + 1 ≤ n/2).
@@ -368,6 +376,10 @@ impl GainView {
         // a ray meets a cell only within its angular extent, and a slightly raised cell
         // shadows only the targets just behind it).
         let mut shadow = [(f32::INFINITY, f32::NEG_INFINITY); ANGLE_BINS];
+        // Per bin, the distance beyond which a cell higher than the sensor certainly hides the
+        // target: the sight line crosses that cell's interior (inner bins) and never rises
+        // above the sensor, so it runs below the cell's top there.
+        let mut hidden_from = [f32::INFINITY; ANGLE_BINS];
         let mut any_tall = false;
         for e in &disc.entries[..] {
             if e.n_spans == 0 {
@@ -388,6 +400,12 @@ impl GainView {
                     m.1 = m.1.max(end);
                 }
             }
+            if z as f64 > zs && e.inner.0 <= e.inner.1 {
+                let far = e.r + HALF_DIAG;
+                for m in &mut hidden_from[e.inner.0 as usize..=e.inner.1 as usize] {
+                    *m = m.min(far);
+                }
+            }
             any_tall = true;
         }
         let mut sum = 0u32;
@@ -397,6 +415,9 @@ impl GainView {
                 let (lo, hi) = shadow[e.bin as usize];
                 e.r >= lo && e.r <= hi
             };
+            if maybe_blocked && e.r >= hidden_from[e.bin as usize] {
+                continue;
+            }
             if !maybe_blocked || ray_clear(c, c.offset(e.di, e.dj), zs, zt, d, elev) {
                 sum += g as u32;
                 if let Some(v) = vis.as_deref_mut() {
@@ -457,6 +478,9 @@ impl GainView {
                 continue;
             };
             let (start, end) = shadow_interval(ex.r, z, zs, zt);
+            // Targets x now certainly hides (see `model_count_with`).
+            let hides = e_new.is_some_and(|z| z as f64 > zs) && ex.inner.0 <= ex.inner.1;
+            let far = ex.r + HALF_DIAG;
             for &(a, b) in ex.spans() {
                 for bin in a as usize..=b as usize {
                     let group = &disc.by_bin
@@ -478,7 +502,12 @@ impl GainView {
                         };
                         let (g1, g0) = (self.icount[idx], old.icount[idx]);
                         let was = g0 > 0 && get_bit(vis, k);
-                        let now = g1 > 0 && ray_clear(c, t, zs, zt, d, |y| self.elevation(y));
+                        let hidden = hides
+                            && e.r >= far
+                            && (ex.inner.0..=ex.inner.1).contains(&e.bin);
+                        let now = g1 > 0
+                            && !hidden
+                            && ray_clear(c, t, zs, zt, d, |y| self.elevation(y));
                         delta += if now { g1 as i64 } else { 0 } - if was { g0 as i64 } else { 0 };
                         put_bit(vis, k, now);
                     }
