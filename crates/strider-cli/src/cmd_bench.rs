@@ -138,7 +138,7 @@ fn run_task(task: &Task, time_limit: Option<f64>) -> Result<TrialResult> {
 /// Mann–Whitney test of `a` against `b`.
 fn compare(a: &[f64], b: &[f64], paired: bool) -> serde_json::Value {
     let (Ok(sa), Ok(sb)) = (Summary::of(a), Summary::of(b)) else {
-        return serde_json::Value::Null;
+        return json!({"ratio_of_means": null, "paired_win_fraction": null, "mann_whitney": null});
     };
     let mw: Option<MannWhitney> = mann_whitney_u(a, b).ok();
     let wins = if paired {
@@ -457,11 +457,15 @@ pub fn table5(o: &Table5Options, out: &Path) -> Result<()> {
     let _ = writeln!(
         md,
         "\nReplanning latency on courtyard-large (goal identification is separate): median of \
-         per-mission medians {} ms, worst {:.1} ms.",
+         per-mission medians {} ms, worst {} ms.",
         replan_med
             .get(replan_med.len() / 2)
             .map_or("–".into(), |x| format!("{x:.1}")),
-        replan_max
+        if large.is_empty() {
+            "–".to_string()
+        } else {
+            format!("{replan_max:.1}")
+        }
     );
     let mdp = out.join("table5.md");
     fs::write(&mdp, &md).with_context(|| format!("{}: cannot write", mdp.display()))?;
