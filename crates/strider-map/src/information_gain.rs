@@ -502,12 +502,10 @@ impl GainView {
                         };
                         let (g1, g0) = (self.icount[idx], old.icount[idx]);
                         let was = g0 > 0 && get_bit(vis, k);
-                        let hidden = hides
-                            && e.r >= far
-                            && (ex.inner.0..=ex.inner.1).contains(&e.bin);
-                        let now = g1 > 0
-                            && !hidden
-                            && ray_clear(c, t, zs, zt, d, |y| self.elevation(y));
+                        let hidden =
+                            hides && e.r >= far && (ex.inner.0..=ex.inner.1).contains(&e.bin);
+                        let now =
+                            g1 > 0 && !hidden && ray_clear(c, t, zs, zt, d, |y| self.elevation(y));
                         delta += if now { g1 as i64 } else { 0 } - if was { g0 as i64 } else { 0 };
                         put_bit(vis, k, now);
                     }
