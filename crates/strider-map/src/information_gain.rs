@@ -1032,6 +1032,26 @@ mod tests {
         assert!(information_gain(&m, &reach, Some(&b)).cells.is_empty());
     }
 
+    /// Applies `edits` (never to the robot's cell (0, 0)), then evaluates Eq. 11 through the
+    /// cache and afresh.
+    fn edit_and_evaluate(
+        m: &mut ElevationMap,
+        cache: &mut GainCache,
+        edits: &[(i32, i32, f32)],
+    ) -> (InfoGain, InfoGain) {
+        for &(i, j, z) in edits {
+            if (i, j) != (0, 0) {
+                m.set_cell(Cell::new(i, j), z, 1e-4, Rgb8::default());
+            }
+        }
+        m.update_passability();
+        let reach = Reachability::compute(m, Cell::new(0, 0));
+        (
+            cache.compute(m, &reach, None),
+            information_gain(m, &reach, None),
+        )
+    }
+
     #[test]
     fn cache_reuses_unchanged_candidates_and_follows_changes() {
         let mut m = ElevationMap::new(MapParams {
@@ -1104,16 +1124,8 @@ mod tests {
             let first = cache.compute(&m, &reach, None);
             proptest::prop_assert_eq!(first.cells, information_gain(&m, &reach, None).cells);
             for edits in steps {
-                for (i, j, z) in edits {
-                    if (i, j) != (0, 0) {
-                        m.set_cell(Cell::new(i, j), z, 1e-4, Rgb8::default());
-                    }
-                }
-                m.update_passability();
-                let reach = Reachability::compute(&m, Cell::new(0, 0));
-                let cached = cache.compute(&m, &reach, None);
+                let (cached, fresh) = edit_and_evaluate(&mut m, &mut cache, &edits);
                 if dz == 0.0 {
-                    let fresh = information_gain(&m, &reach, None);
                     proptest::prop_assert_eq!(cached.candidates, fresh.candidates);
                     proptest::prop_assert_eq!(cached.cells, fresh.cells);
                 }
@@ -1136,15 +1148,7 @@ mod tests {
             flat(&mut m, (-2..=2).flat_map(|j| (-2..=2).map(move |i| Cell::new(i, j))));
             let mut cache = GainCache::new(0.0);
             for edits in steps {
-                for (i, j, z) in edits {
-                    if (i, j) != (0, 0) {
-                        m.set_cell(Cell::new(i, j), z, 1e-4, Rgb8::default());
-                    }
-                }
-                m.update_passability();
-                let reach = Reachability::compute(&m, Cell::new(0, 0));
-                let fresh = information_gain(&m, &reach, None);
-                let cached = cache.compute(&m, &reach, None);
+                let (cached, fresh) = edit_and_evaluate(&mut m, &mut cache, &edits);
                 proptest::prop_assert_eq!(cached.candidates, fresh.candidates);
                 proptest::prop_assert_eq!(cached.cells, fresh.cells);
             }
