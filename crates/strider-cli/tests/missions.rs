@@ -2,8 +2,6 @@
 //! robot's centre never enters a cell that is inadmissible in the ground truth, bounded
 //! explorations terminate on their own, and the mission's code cannot reach the simulator.
 
-use std::collections::BTreeSet;
-
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{GaitId, Point2};
 use strider_explore::{Mission, Strategy, Termination};
@@ -64,7 +62,6 @@ fn scenario(name: &str, world_seed: u64) -> Scenario {
 /// (time-limited) mission.
 #[test]
 fn centre_never_enters_an_inadmissible_cell() {
-    let mut checked = 0usize;
     for (name, world_seed, seed, strategy) in [
         ("escape-arena", 1, 1, Strategy::Gtsp),
         ("escape-arena", 2, 2, Strategy::Greedy),
@@ -85,9 +82,7 @@ fn centre_never_enters_an_inadmissible_cell() {
             "{name} world {world_seed} seed {seed} {strategy:?}: centre in inadmissible cells at {:?}",
             &judge.violations[..judge.violations.len().min(5)]
         );
-        checked += 1;
     }
-    assert_eq!(checked, 6);
 }
 
 /// Explorations of a bounded area end by themselves (goals cleared or none reachable), well
@@ -95,7 +90,6 @@ fn centre_never_enters_an_inadmissible_cell() {
 /// mission.
 #[test]
 fn bounded_explorations_terminate_and_repeat_exactly() {
-    let mut ends = BTreeSet::new();
     for (world_seed, seed, strategy) in [
         (1, 1, Strategy::Gtsp),
         (2, 7, Strategy::Greedy),
@@ -122,14 +116,12 @@ fn bounded_explorations_terminate_and_repeat_exactly() {
             "world {world_seed} seed {seed} {strategy:?} did not terminate in {} s",
             a.exploration_time_s
         );
-        ends.insert(format!("{:?}", a.termination));
         let (b, cells_b) = run();
         assert_eq!(a.trajectory, b.trajectory, "same seed, same trajectory");
         assert_eq!(a.termination, b.termination);
         assert_eq!(a.cost_samples, b.cost_samples);
         assert_eq!(cells_a, cells_b);
     }
-    assert!(!ends.is_empty());
 }
 
 /// The learning, mapping, planning and exploration crates cannot read simulator ground truth:
