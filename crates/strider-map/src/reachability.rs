@@ -122,21 +122,61 @@ impl Reachability {
     }
 
     /// The reachable admissible cell nearest to `target` (Euclidean, ties in row-major order),
-    /// optionally restricted by `accept`; `None` when there is none.
+    /// optionally restricted by `accept`; `None` when there is none. Searches square rings
+    /// outward from `target` and stops once no farther ring can hold a nearer cell.
     pub fn nearest_goal_cell(&self, target: Cell, accept: impl Fn(Cell) -> bool) -> Option<Cell> {
-        let mut best: Option<(i64, Cell)> = None;
-        for (k, (&r, &a)) in self.reach.iter().zip(&self.admissible).enumerate() {
-            if !(r && a) {
+        let rect = self.rect;
+        if rect.is_empty() {
+            return None;
+        }
+        let ok = |c: Cell| {
+            rect.index(c)
+                .is_some_and(|k| self.reach[k] && self.admissible[k])
+                && accept(c)
+        };
+        // The farthest ring that still meets the rectangle.
+        let (x0, y0) = (rect.min.i as i64, rect.min.j as i64);
+        let (x1, y1) = (x0 + rect.width as i64 - 1, y0 + rect.height as i64 - 1);
+        let (tx, ty) = (target.i as i64, target.j as i64);
+        let max_r = [tx - x0, tx - x1, ty - y0, ty - y1]
+            .into_iter()
+            .map(i64::abs)
+            .max()
+            .unwrap_or(0);
+        let mut best: Option<(i64, usize, Cell)> = None;
+        for r in 0..=max_r {
+            if best.is_some_and(|(b, _, _)| r * r > b) {
+                break;
+            }
+            // Ring r: rows ty ± r in full, columns tx ± r between them.
+            let mut visit = |x: i64, y: i64| {
+                if x < x0 || x > x1 || y < y0 || y > y1 {
+                    return;
+                }
+                let c = Cell::new(x as i32, y as i32);
+                if !ok(c) {
+                    return;
+                }
+                let d2 = (x - tx).pow(2) + (y - ty).pow(2);
+                let k = rect.index(c).unwrap_or(usize::MAX);
+                if best.is_none_or(|(b, bk, _)| d2 < b || (d2 == b && k < bk)) {
+                    best = Some((d2, k, c));
+                }
+            };
+            if r == 0 {
+                visit(tx, ty);
                 continue;
             }
-            let c = self.rect.cell(k);
-            let (di, dj) = ((c.i - target.i) as i64, (c.j - target.j) as i64);
-            let d2 = di * di + dj * dj;
-            if best.is_none_or(|(b, _)| d2 < b) && accept(c) {
-                best = Some((d2, c));
+            for x in tx - r..=tx + r {
+                visit(x, ty - r);
+                visit(x, ty + r);
+            }
+            for y in ty - r + 1..ty + r {
+                visit(tx - r, y);
+                visit(tx + r, y);
             }
         }
-        best.map(|(_, c)| c)
+        best.map(|(_, _, c)| c)
     }
 }
 
@@ -174,5 +214,44 @@ mod tests {
         );
         let r = Reachability::compute(&m, Cell::new(50, 50));
         assert_eq!(r.count(), 0);
+    }
+
+    proptest::proptest! {
+        /// The ring search finds what a scan of every cell finds (nearest, ties row-major).
+        #[test]
+        fn ring_search_equals_a_full_scan(
+            known in proptest::collection::vec(proptest::bool::weighted(0.7), 144),
+            walls in proptest::collection::vec(proptest::bool::weighted(0.1), 144),
+            ti in -6..18i32, tj in -6..18i32,
+            parity in 0..3i32,
+        ) {
+            let mut m = ElevationMap::new(MapParams {
+                cell_size: 0.1,
+                tile_size: 4,
+                r_robot: 0.0,
+                rho_obstacle: 0.1,
+                ..MapParams::default()
+            });
+            for k in 0..144 {
+                if known[k] || k == 0 {
+                    let z = if walls[k] && k != 0 { 1.0 } else { 0.0 };
+                    m.set_cell(Cell::new(k as i32 % 12, k as i32 / 12), z, 1e-4, Rgb8::default());
+                }
+            }
+            m.update_passability();
+            let r = Reachability::compute(&m, Cell::new(0, 0));
+            let accept = |c: Cell| (c.i + c.j).rem_euclid(3) != parity;
+            let target = Cell::new(ti, tj);
+            let mut brute: Option<(i64, Cell)> = None;
+            for c in r.rect().cells() {
+                if r.is_goal_cell(c) && accept(c) {
+                    let d2 = ((c.i - ti) as i64).pow(2) + ((c.j - tj) as i64).pow(2);
+                    if brute.is_none_or(|(b, _)| d2 < b) {
+                        brute = Some((d2, c));
+                    }
+                }
+            }
+            proptest::prop_assert_eq!(r.nearest_goal_cell(target, accept), brute.map(|b| b.1));
+        }
     }
 }
