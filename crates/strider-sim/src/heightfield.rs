@@ -166,6 +166,21 @@ impl Heightfield {
         if t0 > t1 {
             return None;
         }
+        // A descending ray cannot hit anything while it is above the highest column: start
+        // where it comes down to that height (exact, and most of a downward-looking camera's
+        // rays over open ground).
+        // (Aim 1 nm above it so rounding never puts the start below a column's top.)
+        let z_top = self.max_elevation + 1e-9;
+        let t_top = if uz < 0.0 && oz > z_top {
+            (oz - z_top) / -uz
+        } else {
+            f64::NEG_INFINITY
+        };
+        let skipped = t_top > t0;
+        let t0 = t0.max(t_top);
+        if t0 > t1 {
+            return None;
+        }
 
         // The first cell: the one the ray is inside just after t0.
         let start_index = |o: f64, v: f64, n: i64| -> i64 {
@@ -214,7 +229,9 @@ impl Heightfield {
             X(f64),
             Y(f64),
         }
-        let mut entry = if t0 > 0.0 && enter[0] >= enter[1] {
+        let mut entry = if skipped {
+            Entry::Start
+        } else if t0 > 0.0 && enter[0] >= enter[1] {
             Entry::X(if ux > 0.0 { 0.0 } else { ww })
         } else if t0 > 0.0 {
             Entry::Y(if uy > 0.0 { 0.0 } else { hh })
