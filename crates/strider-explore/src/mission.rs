@@ -190,6 +190,10 @@ pub struct Mission {
     keyframes: Vec<Option<(f64, f64, f64)>>,
     /// The latest planning view (per-gait grids for Alg. 4, the merged grid for paths).
     view: Option<PlanningView>,
+    /// What the view was built from: (fused scans, learning updates, cost mode).
+    view_key: Option<(u64, u64, CostMode)>,
+    /// Learning updates so far.
+    learn_generation: u64,
     /// Footprint offsets δ(r_robot) for the gait choice.
     footprint: Vec<(i32, i32)>,
     /// End time of the look-around in progress.
@@ -289,6 +293,8 @@ impl Mission {
             updates: vec![ModelUpdate::default(); n],
             looking: None,
             view: None,
+            view_key: None,
+            learn_generation: 0,
             footprint: strider_core::grid::disc_offsets(params.map.r_robot, params.map.cell_size),
             params,
         })
@@ -481,14 +487,9 @@ impl Mission {
         }
         self.learned_once = true;
         // The costs changed: refresh the view the gait choice reads.
+        self.learn_generation += 1;
         if self.params.strategy != Strategy::SpatialOnly {
-            self.view = PlanningView::build(
-                &self.map,
-                &self.models,
-                CostMode::Learned,
-                self.params.c_loss,
-                self.params.bounds.as_ref(),
-            );
+            self.refresh_view(CostMode::Learned);
         }
         self.log.learning_ms.push(w.elapsed().as_secs_f64() * 1e3);
     }
@@ -515,6 +516,23 @@ impl Mission {
             }
         }
         goals
+    }
+
+    /// Rebuilds the planning view unless the map (fused scans), the models (learning updates)
+    /// and the cost mode are those it was built from.
+    fn refresh_view(&mut self, mode: CostMode) {
+        let key = (self.map.scan_count(), self.learn_generation, mode);
+        if self.view.is_some() && self.view_key == Some(key) {
+            return;
+        }
+        self.view = PlanningView::build(
+            &self.map,
+            &self.models,
+            mode,
+            self.params.c_loss,
+            self.params.bounds.as_ref(),
+        );
+        self.view_key = Some(key);
     }
 
     /// Alg. 1 lines 11–25. Returns true when the exploration is finished.
@@ -583,13 +601,7 @@ impl Mission {
             CostMode::Learned
         };
         self.map.update_passability();
-        self.view = PlanningView::build(
-            &self.map,
-            &self.models,
-            mode,
-            self.params.c_loss,
-            self.params.bounds.as_ref(),
-        );
+        self.refresh_view(mode);
         let view = self.view.take();
         let tour = view.as_ref().and_then(|v| {
             plan_tour(
