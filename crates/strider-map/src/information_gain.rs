@@ -709,7 +709,7 @@ fn collect_gains(candidates: Vec<Cell>, counts: Vec<u32>) -> InfoGain {
 /// Eq. 11 sum is evaluated afresh instead of updated (the update casts two rays to ~9 targets
 /// per changed cell plus the shadow behind it; a fresh evaluation costs about two passes over
 /// the disc).
-const DELTA_CHANGES_PER_DISC: usize = 160;
+const DELTA_CHANGES_PER_DISC: usize = 32;
 
 /// Sentinel of [`GainCache`]: no cached value.
 const NOT_CACHED: u32 = u32::MAX;
