@@ -706,9 +706,11 @@ fn collect_gains(candidates: Vec<Cell>, counts: Vec<u32>) -> InfoGain {
 }
 
 /// Above disc size / this many changed cells within r_sensor + 1 of a cached candidate, its
-/// Eq. 11 sum is evaluated afresh instead of updated (the update casts two rays to ~9 targets
-/// per changed cell plus the shadow behind it; a fresh evaluation costs about two passes over
-/// the disc).
+/// Eq. 11 sum is evaluated afresh instead of updated. An update looks up ~9 stored visibility
+/// bits per changed cell and casts only the sight lines in the shadow of changed cells that
+/// rise above the candidate; a fresh evaluation makes about two passes over the disc and casts
+/// its maybe-blocked targets (measured on courtyard-small: /32 lowers the worst spatial update
+/// from 87 to 33–47 ms against /160).
 const DELTA_CHANGES_PER_DISC: usize = 32;
 
 /// Sentinel of [`GainCache`]: no cached value.
