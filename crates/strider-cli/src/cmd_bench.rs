@@ -66,28 +66,21 @@ struct TrialResult {
     termination: String,
     exploration_time_s: f64,
     observed_cells: usize,
-    /// (tour, mode, total_s, completed).
-    tours: Vec<(String, String, f64, bool)>,
+    /// Per benchmark tour (scenario order) and navigation mode: (tour, mode, total_s,
+    /// completed).
+    tours: Vec<Vec<(String, String, f64, bool)>>,
     replan_ms_median: f64,
     replan_ms_max: f64,
     wall_s: f64,
 }
 
 impl TrialResult {
+    /// (total_s, completed) of the scenario's `index`-th tour driven in `mode`.
     fn tour(&self, index: usize, mode: NavigationMode) -> Option<(f64, bool)> {
-        let names: Vec<&String> = {
-            let mut v: Vec<&String> = Vec::new();
-            for t in &self.tours {
-                if !v.contains(&&t.0) {
-                    v.push(&t.0);
-                }
-            }
-            v
-        };
-        let name = names.get(index)?;
         self.tours
+            .get(index)?
             .iter()
-            .find(|t| &&t.0 == name && t.1 == mode.name())
+            .find(|t| t.1 == mode.name())
             .map(|t| (t.2, t.3))
     }
 }
@@ -117,15 +110,17 @@ fn run_task(task: &Task, time_limit: Option<f64>) -> Result<TrialResult> {
         observed_cells: mission.map().observed_count(),
         tours: tours
             .iter()
-            .flat_map(|(name, rs)| {
-                rs.iter().map(|r| {
-                    (
-                        name.clone(),
-                        r.mode.name().to_string(),
-                        r.total_s,
-                        r.completed,
-                    )
-                })
+            .map(|(name, rs)| {
+                rs.iter()
+                    .map(|r| {
+                        (
+                            name.clone(),
+                            r.mode.name().to_string(),
+                            r.total_s,
+                            r.completed,
+                        )
+                    })
+                    .collect()
             })
             .collect(),
         replan_ms_median: replan.get(replan.len() / 2).copied().unwrap_or(0.0),
@@ -134,18 +129,14 @@ fn run_task(task: &Task, time_limit: Option<f64>) -> Result<TrialResult> {
     })
 }
 
-/// A compared pair of samples: summaries, ratio of means, paired wins of `a` over `b` and the
-/// Mann–Whitney test of `a` against `b`.
-fn compare(a: &[f64], b: &[f64], paired: bool) -> serde_json::Value {
+/// A compared pair of samples, index-paired by trial (same world and mission seed): ratio of
+/// means, paired wins of `a` over `b` and the Mann–Whitney test of `a` against `b`.
+fn compare(a: &[f64], b: &[f64]) -> serde_json::Value {
     let (Ok(sa), Ok(sb)) = (Summary::of(a), Summary::of(b)) else {
         return json!({"ratio_of_means": null, "paired_win_fraction": null, "mann_whitney": null});
     };
     let mw: Option<MannWhitney> = mann_whitney_u(a, b).ok();
-    let wins = if paired {
-        paired_win_fraction(a, b).ok()
-    } else {
-        None
-    };
+    let wins = paired_win_fraction(a, b).ok();
     json!({
         "ratio_of_means": sa.mean / sb.mean,
         "paired_win_fraction": wins,
@@ -324,54 +315,47 @@ pub fn table5(o: &Table5Options, out: &Path) -> Result<()> {
     };
 
     // The relations the paper reports, each as "a < b" with its test.
-    let relations: Vec<(String, &str, &str, bool)> = vec![
+    const RELATIONS: [(&str, &str, &str); 7] = [
         (
-            "tour 1: learned < flat".into(),
+            "tour 1: learned < flat",
             "small tour 1 learned",
             "small tour 1 flat",
-            true,
         ),
         (
-            "tour 1: learned < gait-selection".into(),
+            "tour 1: learned < gait-selection",
             "small tour 1 learned",
             "small tour 1 gait-selection",
-            true,
         ),
         (
-            "tour 2: learned < flat".into(),
+            "tour 2: learned < flat",
             "small tour 2 learned",
             "small tour 2 flat",
-            true,
         ),
         (
-            "tour 2: learned < gait-selection".into(),
+            "tour 2: learned < gait-selection",
             "small tour 2 learned",
             "small tour 2 gait-selection",
-            true,
         ),
         (
-            "small exploration: gtsp < greedy".into(),
+            "small exploration: gtsp < greedy",
             "small exploration gtsp",
             "small exploration greedy",
-            true,
         ),
         (
-            "large tour: proposed < spatial-only".into(),
+            "large tour: proposed < spatial-only",
             "large tour proposed",
             "large tour spatial-only",
-            true,
         ),
         (
-            "large exploration: spatial-only < proposed".into(),
+            "large exploration: spatial-only < proposed",
             "large exploration spatial-only",
             "large exploration proposed",
-            true,
         ),
     ];
-    let rel_json: Vec<_> = relations
+    let rel_json: Vec<_> = RELATIONS
         .iter()
-        .map(|(name, a, b, paired)| {
-            let mut v = compare(row(a), row(b), *paired);
+        .map(|(name, a, b)| {
+            let mut v = compare(row(a), row(b));
             if let Some(obj) = v.as_object_mut() {
                 obj.insert("relation".into(), json!(name));
                 obj.insert("a".into(), json!(a));

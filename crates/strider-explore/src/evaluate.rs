@@ -161,20 +161,15 @@ pub fn run_tour<R: Robot>(
         trajectory: Vec::new(),
         poses: 0,
     };
-    let flat = PlanningView::build(
-        map,
-        models,
-        CostMode::Flat,
-        params.c_loss,
-        params.bounds.as_ref(),
-    );
-    let learned = PlanningView::build(
-        map,
-        models,
-        CostMode::Learned,
-        params.c_loss,
-        params.bounds.as_ref(),
-    );
+    // Only the views the mode reads: flat paths for flat and gait selection, learned gaits for
+    // gait selection and learned.
+    let view = |mode| PlanningView::build(map, models, mode, params.c_loss, params.bounds.as_ref());
+    let flat = (mode != NavigationMode::Learned)
+        .then(|| view(CostMode::Flat))
+        .flatten();
+    let learned = (mode != NavigationMode::Flat)
+        .then(|| view(CostMode::Learned))
+        .flatten();
     let (plan_view, gait_view) = match mode {
         NavigationMode::Flat => (flat.as_ref(), None),
         NavigationMode::GaitSelection => (flat.as_ref(), learned.as_ref()),
