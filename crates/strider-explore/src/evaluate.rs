@@ -12,7 +12,7 @@
 
 use crate::mission::{MissionError, TrajectorySample};
 use crate::params::MissionParams;
-use crate::planner::{CostMode, PlanningView, waypoints};
+use crate::planner::{CostMode, PlanningView, nearest_where, waypoints};
 use serde::Serialize;
 use strider_core::grid::CellRay;
 use strider_core::interface::{Robot, SensorSink};
@@ -121,19 +121,6 @@ impl SensorSink for TourSink {
     }
 }
 
-/// The nearest cell to `c` within 3·r_robot where the planning grid lets the robot's centre be
-/// (waypoints may sit next to an obstacle or the bounds, which the footprint cannot approach).
-fn admissible_near(map: &ElevationMap, view: &PlanningView, c: Cell) -> Option<Cell> {
-    let ok = |c: Cell| view.grid.cost(c).is_some_and(f32::is_finite);
-    if ok(c) {
-        return Some(c);
-    }
-    strider_core::grid::disc_offsets(3.0 * map.params().r_robot, map.cell_size())
-        .into_iter()
-        .map(|(di, dj)| Cell::new(c.i + di, c.j + dj))
-        .find(|&x| ok(x))
-}
-
 /// A straight path from `a` to `b` if every cell it crosses is admissible.
 fn straight_path(map: &ElevationMap, a: Point2, b: Point2) -> Option<Vec<Point2>> {
     let d = map.cell_size();
@@ -179,6 +166,7 @@ pub fn run_tour<R: Robot>(
     let rough = params.rough_gait();
     let d = map.cell_size();
     let r_robot = map.params().r_robot;
+    let near = strider_core::grid::disc_offsets(3.0 * r_robot, d);
     let dt = 1.0 / params.rates.control_hz;
     let v_min = params
         .gaits
@@ -205,8 +193,11 @@ pub fn run_tour<R: Robot>(
                 return Some(p);
             }
             let view = plan_view?;
-            let src = admissible_near(map, view, map.cell_at(from.x, from.y)?)?;
-            let dst = admissible_near(map, view, map.cell_at(b.x, b.y)?)?;
+            // Waypoints may sit next to an obstacle or the bounds, which the footprint cannot
+            // approach: use the nearest cell where the planning grid lets the centre be.
+            let centre_ok = |c: Cell| view.grid.cost(c).is_some_and(f32::is_finite);
+            let src = nearest_where(map.cell_at(from.x, from.y)?, &near, centre_ok)?;
+            let dst = nearest_where(map.cell_at(b.x, b.y)?, &near, centre_ok)?;
             let cells = view.path(&mut Dijkstra::new(), src, dst)?;
             let mut pts = waypoints(&cells, d);
             pts.push(b);

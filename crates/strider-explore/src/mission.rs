@@ -23,7 +23,8 @@
 
 use crate::params::{MissionParams, Strategy};
 use crate::planner::{
-    CostMode, GoalKey, PlanningView, TourGoal, farthest_point_subsample, plan_tour, waypoints,
+    CostMode, GoalKey, PlanningView, TourGoal, farthest_point_subsample, nearest_where, plan_tour,
+    waypoints,
 };
 use std::time::Instant;
 use strider_core::interface::{MotionState, Robot, SensorSink};
@@ -194,6 +195,8 @@ pub struct Mission {
     view_key: Option<(u64, u64, CostMode)>,
     /// Learning updates so far.
     learn_generation: u64,
+    /// Offsets of the 3·r_robot disc the anchor cell is searched in (nearest first).
+    anchor_offsets: Vec<(i32, i32)>,
     /// Footprint offsets δ(r_robot) for the gait choice.
     footprint: Vec<(i32, i32)>,
     /// End time of the look-around in progress.
@@ -296,6 +299,10 @@ impl Mission {
             view_key: None,
             learn_generation: 0,
             footprint: strider_core::grid::disc_offsets(params.map.r_robot, params.map.cell_size),
+            anchor_offsets: strider_core::grid::disc_offsets(
+                3.0 * params.map.r_robot,
+                params.map.cell_size,
+            ),
             params,
         })
     }
@@ -340,15 +347,9 @@ impl Mission {
     /// sees the ground under the robot at the start).
     fn anchor_cell(&self) -> Option<Cell> {
         let here = self.robot_cell()?;
-        let ok = |c: Cell| self.map.is_observed(c) && self.map.is_admissible(c);
-        if ok(here) {
-            return Some(here);
-        }
-        let r = 3.0 * self.map.params().r_robot;
-        strider_core::grid::disc_offsets(r, self.map.cell_size())
-            .into_iter()
-            .map(|(di, dj)| Cell::new(here.i + di, here.j + dj))
-            .find(|&c| ok(c))
+        nearest_where(here, &self.anchor_offsets, |c| {
+            self.map.is_observed(c) && self.map.is_admissible(c)
+        })
     }
 
     /// Runs Alg. 1 until every goal is cleared or the time limit.

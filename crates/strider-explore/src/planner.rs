@@ -277,6 +277,18 @@ pub fn plan_tour(
     })
 }
 
+/// The first cell of `c` + `offsets` (sorted by distance, as [`disc_offsets`] gives them)
+/// that satisfies `ok`: the nearest place near `c` where the robot's centre may be. Both the
+/// mission (its anchor cell) and the tours (their waypoints) use it with a 3·r_robot disc.
+///
+/// [`disc_offsets`]: strider_core::grid::disc_offsets
+pub fn nearest_where(c: Cell, offsets: &[(i32, i32)], ok: impl Fn(Cell) -> bool) -> Option<Cell> {
+    offsets
+        .iter()
+        .map(|&(di, dj)| Cell::new(c.i + di, c.j + dj))
+        .find(|&x| ok(x))
+}
+
 /// Cell centres of a cell path as world waypoints.
 pub fn waypoints(path: &[Cell], d: f64) -> Vec<Point2> {
     path.iter().map(|c| c.center(d)).collect()
