@@ -797,7 +797,9 @@ impl GainCache {
         let candidates = candidates(map, reach, bounds);
         let mut deltas: Vec<(usize, Cell)> = Vec::new();
         let mut changed_cells: Vec<Cell> = Vec::new();
-        let mut old: Option<(Vec<f32>, Vec<u8>)> = None;
+        // The view before this call's changes: elevations, and I_cell when it changed (else
+        // the current one serves).
+        let mut old: Option<(Vec<f32>, Option<Vec<u8>>)> = None;
         if !fits || self.bounds != bounds.copied() {
             // Grow with a margin so that a slowly growing map rebuilds rarely.
             let rect = match &self.view {
@@ -829,13 +831,11 @@ impl GainCache {
                     changed_cells.push(v.rect.cell(k));
                 }
             }
-            let old_icount = if known_changed {
+            let old_icount = known_changed.then(|| {
                 let o = v.icount.clone();
                 v.derive(bounds, d);
                 o
-            } else {
-                v.icount.clone()
-            };
+            });
             if !changed_cells.is_empty() {
                 let (w, hh) = (v.rect.width as usize, v.rect.height as usize);
                 let sat = summed_area(&changed, w, hh);
@@ -888,7 +888,7 @@ impl GainCache {
         if let Some((old_elev, old_icount)) = &old {
             let ov = OldView {
                 elev: old_elev,
-                icount: old_icount,
+                icount: old_icount.as_deref().unwrap_or(&view.icount),
             };
             let changed = &changed_cells;
             let mut work: Vec<(usize, Cell, Vec<u64>, i64)> = deltas
