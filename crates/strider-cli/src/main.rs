@@ -8,8 +8,10 @@ mod cmd_bench;
 mod cmd_gp;
 mod cmd_gtsp;
 mod cmd_map;
+mod cmd_navigate;
 mod cmd_run;
 mod cmd_scenario;
+mod cmd_tours;
 mod render;
 
 use std::path::PathBuf;
@@ -62,6 +64,12 @@ enum Command {
     /// Exact Gaussian-process regression (the traversal-cost model) on CSV files.
     #[command(subcommand)]
     Gp(GpCommand),
+    /// `003`: energy-optimal repeated tours on `energy-arena` — learn a zero-mean GP map of energy
+    /// per metre while driving the same waypoints again and again, re-planning the tour each time.
+    Tours(cmd_tours::ToursArgs),
+    /// `004`: repeated start–goal navigation on `bonn-paths` with a GP mixture model (mean-shift
+    /// gating, optionally aerial-image gating classifiers) and a softplus lower-confidence-bound cost.
+    Navigate(cmd_navigate::NavigateArgs),
     /// Mission-level benchmarks that reproduce the papers' tables.
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -258,6 +266,8 @@ fn main() -> ExitCode {
             time_limit,
             &out,
         ),
+        Command::Tours(args) => cmd_tours::run(&args),
+        Command::Navigate(args) => cmd_navigate::run(&args),
         Command::Bench(BenchCommand::Table5 {
             trials,
             large_trials,

@@ -17,8 +17,10 @@
 //! depend on the simulator or on the scenario crate (which holds the ground-truth world), so the
 //! learned models cannot read ground truth.
 
+pub mod energy_tours;
 pub mod evaluate;
 pub mod mission;
+pub mod navigate;
 pub mod params;
 pub mod planner;
 pub mod stats;

@@ -1,0 +1,1 @@
+//! `003` energy-optimal repeated tours (work in progress).
