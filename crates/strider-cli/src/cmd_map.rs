@@ -56,6 +56,8 @@ impl SensorSink for MapSink {
         tot.face_points += s.face_points;
         tot.cells_updated += s.cells_updated;
         tot.cells_gated += s.cells_gated;
+        tot.face_bounds_raised += s.face_bounds_raised;
+        tot.face_bounds_ignored += s.face_bounds_ignored;
         tot.carved_points += s.carved_points;
         tot.cells_carved += s.cells_carved;
         let yaw = self.last_pose.map_or(0.0, |p| p.yaw);
@@ -322,6 +324,8 @@ pub fn build(
         "skipped_out_of_range_points": sink.totals.skipped_out_of_range,
         "face_points": sink.totals.face_points,
         "cells_gated": sink.totals.cells_gated,
+        "face_bounds_raised": sink.totals.face_bounds_raised,
+        "face_bounds_ignored": sink.totals.face_bounds_ignored,
         "carved_points": sink.totals.carved_points,
         "cells_carved": sink.totals.cells_carved,
         "visible_cells": n_vis,
