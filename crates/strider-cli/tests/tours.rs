@@ -1,0 +1,198 @@
+//! End-to-end tests of `strider tours` (`003` repeated tours): its tables and figures, and its
+//! one-line errors on bad tours.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn strider(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_strider"))
+        .args(args)
+        .output()
+        .expect("run strider")
+}
+
+/// A fresh directory under the system temp dir, unique per test.
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("strider-tours-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The error contract: exit code 1 and exactly one line on stderr starting with `error: `.
+fn one_line_error(o: &Output) -> String {
+    assert_eq!(o.status.code(), Some(1), "stderr: {}", stderr(o));
+    let e = stderr(o);
+    assert_eq!(e.trim_end().lines().count(), 1, "one line expected: {e}");
+    assert!(e.starts_with("error: "), "{e}");
+    e
+}
+
+fn json(path: &Path) -> Value {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap()
+}
+
+fn is_png(path: &Path) -> bool {
+    std::fs::read(path).is_ok_and(|b| b.starts_with(b"\x89PNG\r\n\x1a\n"))
+}
+
+#[test]
+fn tours_write_tables_and_figures() {
+    let dir = temp_dir("run");
+    let out = dir.to_str().unwrap();
+    let o = strider(&["tours", "--tours", "5", "--out", out]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("energy-arena") && stdout.contains("tour 1"),
+        "{stdout}"
+    );
+
+    let r = json(&dir.join("tours.json"));
+    let tours = r["tours"].as_array().unwrap();
+    assert_eq!(tours.len(), 5);
+    assert_eq!(r["always_shortest"].as_array().unwrap().len(), 5);
+    let s = &r["summary"];
+    assert_eq!(s["acceptance"]["first_tour_is_shortest"], Value::Bool(true));
+    // Same robot, same noise seed, same first plan: the same first tour energy.
+    assert_eq!(tours[0]["energy_j"], r["always_shortest"][0]["energy_j"]);
+    for t in tours {
+        let e = t["energy_j"].as_f64().unwrap();
+        assert!(e.is_finite() && e > 10.0, "{t}");
+        assert!(t["samples"].as_u64().unwrap() > 50, "{t}");
+    }
+    // Tour 1 learnt and refitted with hyperparameters inside the bounds.
+    let l = tours[0]["fit"]["lengthscale"].as_f64().unwrap();
+    let bounds = r["params"]["lengthscale_bounds_m"].as_array().unwrap();
+    assert!(l >= bounds[0].as_f64().unwrap() && l <= bounds[1].as_f64().unwrap());
+    assert_eq!(r["published"]["first_tour_j"].as_f64(), Some(28.7));
+
+    let series = json(&dir.join("energy_per_tour.json"));
+    assert_eq!(series["exploring_j"].as_array().unwrap().len(), 5);
+    assert_eq!(
+        series["cumulative_always_shortest_j"]
+            .as_array()
+            .unwrap()
+            .len(),
+        5
+    );
+
+    let md = std::fs::read_to_string(dir.join("tours.md")).unwrap();
+    assert!(md.contains("28.7 J") && md.contains("| 5 |"), "{md}");
+    for f in [
+        "energy_per_tour.png",
+        "cumulative_energy.png",
+        "cumulative_difference.png",
+        "map_truth.png",
+        "map_after_tour_01.png",
+        "map_after_tour_05.png",
+    ] {
+        assert!(is_png(&dir.join(f)), "{f}");
+    }
+    assert!(!dir.join("map_after_tour_10.png").exists());
+}
+
+#[test]
+fn several_seeds_are_counted_and_runs_repeat() {
+    let dir = temp_dir("seeds");
+    let out = dir.to_str().unwrap();
+    let o = strider(&[
+        "tours", "--tours", "2", "--seeds", "2", "--seed", "4", "--out", out,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = json(&dir.join("summary.json"));
+    assert_eq!(s["counts"]["of"].as_u64(), Some(2));
+    assert_eq!(s["counts"]["first_tour_is_shortest"].as_u64(), Some(2));
+    assert_eq!(s["seeds"], serde_json::json!([4, 5]));
+    let a = json(&dir.join("seed-4/energy_per_tour.json"));
+    let b = json(&dir.join("seed-5/energy_per_tour.json"));
+    assert_ne!(a["exploring_j"], b["exploring_j"], "different noise seeds");
+    assert!(
+        std::fs::read_to_string(dir.join("summary.md"))
+            .unwrap()
+            .contains("of 2")
+    );
+
+    // The same seed again gives the same tours.
+    let again = temp_dir("seeds-again");
+    let o = strider(&[
+        "tours",
+        "--tours",
+        "2",
+        "--seed",
+        "4",
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(json(&again.join("energy_per_tour.json")), a);
+}
+
+#[test]
+fn bad_tours_give_one_line_errors() {
+    let dir = temp_dir("bad");
+    let scen = dir.join("scenario");
+    let o = strider(&[
+        "scenario",
+        "export",
+        "energy-arena",
+        "--out",
+        scen.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let toml = std::fs::read_to_string(scen.join("scenario.toml")).unwrap();
+    let (head, tours) = toml.split_once("[[tours]]").unwrap();
+    // The waypoints' coordinate lines, in order.
+    let coords: Vec<&str> = tours
+        .lines()
+        .filter(|l| l.starts_with("x = ") || l.starts_with("y = "))
+        .collect();
+    assert_eq!(coords.len(), 8);
+    let write = |name: &str, tours: String| {
+        let p = scen.join(name);
+        std::fs::write(&p, format!("{head}[[tours]]{tours}")).unwrap();
+        p
+    };
+    let out = dir.join("out");
+    let out = out.to_str().unwrap();
+
+    // Waypoint 2 becomes a copy of waypoint 1.
+    let dup = tours
+        .replacen(coords[4], coords[2], 1)
+        .replacen(coords[5], coords[3], 1);
+    let p = write("dup.toml", dup);
+    let e = one_line_error(&strider(&[
+        "tours",
+        "-s",
+        p.to_str().unwrap(),
+        "--out",
+        out,
+    ]));
+    assert!(e.contains("waypoints 1 and 2 are duplicates"), "{e}");
+
+    // Waypoint 3 moves into the border wall: inside the world, outside the drivable area.
+    let far = tours.replacen(coords[6], "x = 1.98", 1);
+    let p = write("far.toml", far);
+    let e = one_line_error(&strider(&[
+        "tours",
+        "-s",
+        p.to_str().unwrap(),
+        "--out",
+        out,
+    ]));
+    assert!(e.contains("waypoint 3") && e.contains("unreachable"), "{e}");
+
+    let e = one_line_error(&strider(&["tours", "--seeds", "0", "--out", out]));
+    assert!(e.contains("--seeds"), "{e}");
+    let e = one_line_error(&strider(&["tours", "--tours", "0", "--out", out]));
+    assert!(e.contains("--tours"), "{e}");
+    let e = one_line_error(&strider(&["tours", "-s", "no-such-world", "--out", out]));
+    assert!(e.contains("no-such-world"), "{e}");
+}
