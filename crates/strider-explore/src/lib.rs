@@ -12,6 +12,11 @@
 //! * [`evaluate`]: benchmark tours after exploration under the flat, gait-selection and learned
 //!   navigation modes (`001` §5, Tbl. 5), timed per segment.
 //! * [`stats`]: summaries and Mann–Whitney U tests for comparing strategies over trials.
+//! * [`energy_tours`]: `003` energy-optimal repeated tours — a zero-mean GP of motive energy
+//!   per metre learnt from the power stream, waypoints ordered by the exact TSP, re-planned
+//!   after every tour until the tour stops changing.
+//! * [`navigate`]: `004` repeated start–goal navigation with a GP mixture model and a softplus
+//!   lower-confidence-bound planning cost.
 //!
 //! The crate reaches the robot only through [`strider_core::interface::Robot`]; it does not
 //! depend on the simulator or on the scenario crate (which holds the ground-truth world), so the

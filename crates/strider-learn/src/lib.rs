@@ -15,6 +15,8 @@
 //! * [`rbcm`]: the robust Bayesian committee machine of GP experts (`000` Eq. 7–9, decision 15).
 //! * [`igng`]: incremental growing neural gas terrain classes (`001` Alg. 11, decision 17).
 //! * [`morphology`]: class erosion and dilation (`001` Eq. 25–26, decision 18).
+//! * [`mixture`]: the GP mixture model of `004` (Eq. 3–6): mean-shift clusters, gating
+//!   regressions on position and aerial colour, heteroscedastic component GPs (decision 20).
 //!
 //! The crate works on the map crate's layers and descriptors and knows nothing of the simulator.
 
@@ -22,6 +24,7 @@ pub mod cost_model;
 pub mod descriptor_field;
 pub mod gp;
 pub mod igng;
+pub mod mixture;
 pub mod morphology;
 pub mod rbcm;
 pub mod signals;

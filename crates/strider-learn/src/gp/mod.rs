@@ -36,6 +36,12 @@
 //! rayon's pool, so results can differ in the last bits between pool sizes).
 //!
 //! Inputs and targets that are not finite are rejected with an error and never stored.
+//!
+//! # Per-point noise (`004` Eq. 4)
+//! [`Gp::fit_heteroscedastic`] scales the noise of each training point: the diagonal becomes
+//! K + σ_n² Ψ with Ψ = diag(ψ_j), ψ_j > 0, which is the component GP of a GP mixture when
+//! ψ_j = 1/φ_i(x_j). Every other constructor and [`Gp::push`] use ψ = 1 (the homoscedastic
+//! model); [`Gp::replace`] keeps the point's ψ.
 
 mod factor;
 mod hyper;
@@ -181,6 +187,9 @@ pub struct Gp {
     xs: Vec<f64>,
     /// Targets, storage order.
     y: Vec<f64>,
+    /// Per-point noise multipliers ψ (σ_n² ψ_j on the diagonal), storage order; 1 unless fitted
+    /// with [`Gp::fit_heteroscedastic`].
+    psi: Vec<f64>,
     /// Index → storage row (identity until a `replace` moves a point to the last row).
     perm: Vec<usize>,
     factor: Factor,
@@ -201,6 +210,7 @@ impl Gp {
             x: Vec::new(),
             xs: Vec::new(),
             y: Vec::new(),
+            psi: Vec::new(),
             perm: Vec::new(),
             factor: Factor::with_capacity(0),
             w: Vec::new(),
@@ -211,7 +221,36 @@ impl Gp {
     /// Fits a GP to n points at once: `x` is n × dim row-major, `y` has n targets. Builds K in
     /// parallel and factorises it with faer's blocked Cholesky (O(n³)).
     pub fn fit(dim: usize, params: GpParams, x: &[f64], y: &[f64]) -> Result<Gp, GpError> {
+        Gp::fit_heteroscedastic(dim, params, x, y, &vec![1.0; y.len()])
+    }
+
+    /// As [`Gp::fit`] with the noise variance of point j scaled by `noise_scale[j]` = ψ_j > 0:
+    /// K + σ_n² Ψ (`004` Eq. 4, where ψ_j = 1/φ_i(x_j) for mixture component i). With every
+    /// ψ_j = 1 this is exactly [`Gp::fit`].
+    pub fn fit_heteroscedastic(
+        dim: usize,
+        params: GpParams,
+        x: &[f64],
+        y: &[f64],
+        noise_scale: &[f64],
+    ) -> Result<Gp, GpError> {
         let mut gp = Gp::new(dim, params)?;
+        if noise_scale.len() != y.len() {
+            return Err(GpError::BadDimension(format!(
+                "{} noise multipliers for {} targets",
+                noise_scale.len(),
+                y.len()
+            )));
+        }
+        if let Some(j) = noise_scale
+            .iter()
+            .position(|v| !(v.is_finite() && *v > 0.0))
+        {
+            return Err(GpError::BadHyperparameter(format!(
+                "noise multiplier {} of point {j} is not a positive finite number",
+                noise_scale[j]
+            )));
+        }
         if x.len() != y.len() * dim {
             return Err(GpError::BadDimension(format!(
                 "{} input values for {} targets of dimension {dim}",
@@ -229,6 +268,7 @@ impl Gp {
         gp.x = x.to_vec();
         gp.xs = scale_points(x, &gp.inv_l);
         gp.y = y.to_vec();
+        gp.psi = noise_scale.to_vec();
         gp.perm = (0..n).collect();
         // Spare rows so that the first insertions after a fit do not move the factor.
         gp.factor = Factor::with_capacity(n + (n / 8).max(32));
@@ -294,6 +334,15 @@ impl Gp {
         self.y[self.perm[i]]
     }
 
+    /// The noise multiplier ψ of training point `i` (its noise variance is σ_n² ψ; 1 unless set
+    /// by [`Gp::fit_heteroscedastic`]).
+    ///
+    /// # Panics
+    /// If `i >= len()`.
+    pub fn noise_scale(&self, i: usize) -> f64 {
+        self.psi[self.perm[i]]
+    }
+
     /// Adds a training point in O(n²): one forward substitution extends L by a row and w by an
     /// entry. If the new pivot is not positive the jitter escalates and the factor is rebuilt
     /// (O(n³), rare); if that fails too, nothing changes and the error is returned.
@@ -301,7 +350,7 @@ impl Gp {
         self.check_dim(x)?;
         check_point(x, self.len())?;
         check_y(y, self.len())?;
-        self.push_storage(x, y)?;
+        self.push_storage(x, y, 1.0)?;
         self.perm.push(self.len() - 1);
         Ok(())
     }
@@ -334,6 +383,7 @@ impl Gp {
         let p = self.perm[i];
         let old_x = self.x(i).to_vec();
         let old_y = self.y[p];
+        let psi = self.psi[p];
         for q in &mut self.perm {
             if *q > p {
                 *q -= 1;
@@ -341,14 +391,14 @@ impl Gp {
         }
         self.remove_storage(p);
         let last = self.len();
-        match self.push_storage(x, y) {
+        match self.push_storage(x, y, psi) {
             Ok(()) => {
                 self.perm[i] = last;
                 Ok(())
             }
             Err(e) => {
                 // Put the old point back (it fitted before, with the same jitter).
-                self.push_storage(&old_x, old_y)?;
+                self.push_storage(&old_x, old_y, psi)?;
                 self.perm[i] = last;
                 Err(e)
             }
@@ -488,6 +538,60 @@ impl Gp {
         Ok(())
     }
 
+    /// Predicts only the mean at many inputs (`xs` is q × dim row-major, `mean` has q entries):
+    /// μ = m + k*ᵀα with α = L⁻ᵀw solved once, so a query costs O(n·dim) instead of the O(n²)
+    /// of a variance. For GPs whose variance is not needed (the gating regressions of `004`).
+    pub fn predict_mean_batch(&self, xs: &[f64], mean: &mut [f64]) -> Result<(), GpError> {
+        let q = mean.len();
+        if xs.len() != q * self.dim {
+            return Err(GpError::BadDimension(format!(
+                "{} query values and {} mean slots for dimension {}",
+                xs.len(),
+                q,
+                self.dim
+            )));
+        }
+        for (j, p) in xs.chunks_exact(self.dim).enumerate() {
+            if let Some(k) = p.iter().position(|v| !v.is_finite()) {
+                return Err(GpError::NonFinite {
+                    what: format!("x[{k}] of query {j}"),
+                });
+            }
+        }
+        let n = self.len();
+        let m = self.params.prior_mean;
+        if n == 0 {
+            mean.fill(m);
+            return Ok(());
+        }
+        let mut alpha = faer::Mat::<f64>::from_fn(n, 1, |i, _| self.w[i]);
+        faer::linalg::triangular_solve::solve_upper_triangular_in_place(
+            self.factor.view().transpose(),
+            alpha.as_mut(),
+            Par::Seq,
+        );
+        let alpha: Vec<f64> = (0..n).map(|i| alpha[(i, 0)]).collect();
+        let d = self.dim;
+        let kind = self.params.kernel.kind;
+        let s2 = self.params.kernel.signal_variance;
+        mean.par_chunks_mut(QUERY_BLOCK)
+            .zip(xs.par_chunks(QUERY_BLOCK * d))
+            .for_each(|(mc, qx)| {
+                let mut q = vec![0.0; d];
+                for (mj, xq) in mc.iter_mut().zip(qx.chunks_exact(d)) {
+                    for ((qk, xk), il) in q.iter_mut().zip(xq).zip(&self.inv_l) {
+                        *qk = xk * il;
+                    }
+                    let mut acc = 0.0;
+                    for (xi, a) in self.xs.chunks_exact(d).zip(&alpha) {
+                        acc += a * k_of_r2(kind, s2, sq_dist(xi, &q));
+                    }
+                    *mj = m + acc;
+                }
+            });
+        Ok(())
+    }
+
     /// The log marginal likelihood ln p(y | X) = −½ wᵀw − Σ ln L_ii − (n/2) ln 2π (0 for n = 0).
     pub fn log_marginal_likelihood(&self) -> f64 {
         let n = self.len();
@@ -550,15 +654,16 @@ impl Gp {
         })
     }
 
-    /// Writes the lower triangle of K + (σ_n² + jitter) I into the factor, columns in parallel.
+    /// Writes the lower triangle of K + σ_n² Ψ + jitter I into the factor, columns in parallel.
     fn fill_kernel_matrix(&mut self) {
         let n = self.len();
         let d = self.dim;
         let kind = self.params.kernel.kind;
         let s2 = self.params.kernel.signal_variance;
-        let diag = self.diag_value();
+        let (sn2, jitter) = (self.params.noise_variance, self.jitter);
         let ld = self.factor.ld;
         let xs = &self.xs;
+        let psi = &self.psi;
         self.factor.n = n;
         if n == 0 {
             return;
@@ -568,7 +673,7 @@ impl Gp {
             .enumerate()
             .for_each(|(j, col)| {
                 let xj = &xs[j * d..(j + 1) * d];
-                col[j] = diag;
+                col[j] = s2 + sn2 * psi[j] + jitter;
                 for (i, c) in col[j + 1..n].iter_mut().enumerate() {
                     let i = i + j + 1;
                     *c = k_of_r2(kind, s2, sq_dist(&xs[i * d..(i + 1) * d], xj));
@@ -587,8 +692,9 @@ impl Gp {
         self.factor.forward_solve_from(&mut self.w, p);
     }
 
-    /// Appends a (checked) point as the last storage row; atomic on error.
-    fn push_storage(&mut self, x: &[f64], y: f64) -> Result<(), GpError> {
+    /// Appends a (checked) point with noise multiplier `psi` as the last storage row; atomic on
+    /// error.
+    fn push_storage(&mut self, x: &[f64], y: f64, psi: f64) -> Result<(), GpError> {
         let n = self.len();
         let d = self.dim;
         let kind = self.params.kernel.kind;
@@ -600,7 +706,9 @@ impl Gp {
             .map(|xi| k_of_r2(kind, s2, sq_dist(xi, &xq)))
             .collect();
         self.factor.forward_solve_from(&mut row, 0);
-        let pivot2 = self.diag_value() - dot(&row, &row);
+        let pivot2 =
+            self.params.kernel.signal_variance + self.params.noise_variance * psi + self.jitter
+                - dot(&row, &row);
         if pivot2.is_finite() && pivot2 > self.min_pivot2() {
             let piv = pivot2.sqrt();
             let wn = (y - self.params.prior_mean - dot(&row, &self.w)) / piv;
@@ -608,6 +716,7 @@ impl Gp {
             self.x.extend_from_slice(x);
             self.xs.extend_from_slice(&xq);
             self.y.push(y);
+            self.psi.push(psi);
             self.w.push(wn);
             return Ok(());
         }
@@ -616,6 +725,7 @@ impl Gp {
         self.x.extend_from_slice(x);
         self.xs.extend_from_slice(&xq);
         self.y.push(y);
+        self.psi.push(psi);
         self.factor.reserve_one();
         self.factor.n = n + 1;
         let from = JITTER_STEPS
@@ -628,6 +738,7 @@ impl Gp {
                 self.x.truncate(n * d);
                 self.xs.truncate(n * d);
                 self.y.truncate(n);
+                self.psi.truncate(n);
                 (self.factor, self.w, self.jitter) = saved;
                 Err(e)
             }
@@ -640,6 +751,7 @@ impl Gp {
         self.x.drain(p * d..(p + 1) * d);
         self.xs.drain(p * d..(p + 1) * d);
         self.y.remove(p);
+        self.psi.remove(p);
         self.w.truncate(p);
         self.resolve_w_from(p);
     }

@@ -4,11 +4,14 @@
 //! * [`cost_grid`] — [`CostGrid`], per-cell per-metre cost with `+∞` for inadmissible cells;
 //! * [`dijkstra`] — reusable 8-connected Dijkstra / A* ([`Dijkstra`]), source-cell edge costs;
 //! * [`all_pairs`](mod@all_pairs) — parallel cost matrix between sites ([`SiteCosts`]);
-//! * [`transform`] — best-gait grid, c_loss distance transform, footprint max, gait choice.
+//! * [`transform`] — best-gait grid, c_loss distance transform, footprint max, gait choice;
+//! * [`lcb`] — the softplus/ReLU lower-confidence-bound cost and path of `004` Eq. 7–8
+//!   (decision 26), on the same search.
 
 pub mod all_pairs;
 pub mod cost_grid;
 pub mod dijkstra;
+pub mod lcb;
 pub mod transform;
 
 pub use all_pairs::{SiteCosts, all_pairs};

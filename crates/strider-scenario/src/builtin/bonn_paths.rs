@@ -5,7 +5,8 @@
 //! Layout rules (every seed): a paved road crosses the area west to east through random control
 //! points; two dirt roads branch off it to the north and south edges; a gravel yard touches the
 //! road and a gravel path leaves it; the rest is grass. Vibration (z-acceleration RMS, m/s²):
-//! paved 0.5, dirt 1.5, gravel 4.0, grass 2.5; energy per metre: 1.0, 1.2, 1.6, 2.0 (relative).
+//! paved 0.5, dirt 1.5, gravel 4.0, grass 2.5; energy per metre: 1.0, 1.2, 1.6, 2.0 (relative),
+//! drawn as power = energy per metre × speed, so the husky measures it through `power_w`.
 //! Tours: `start-goal` (south-west to north-east) and `locations` A–D, one on each terrain.
 
 use rand::{RngExt, SeedableRng, rngs::ChaCha8Rng};
@@ -80,10 +81,13 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
         (GRAVEL, "gravel", 4.0, 1.6, 0.8),
         (GRASS, "grass", 2.5, 2.0, 0.7),
     ];
+    // The draw is energy per metre × the speed reached (W = J/m · m/s), so the energy the
+    // robot measures per metre (power over speed) is the table's energy per metre.
+    let v_max = robot.gaits[0].max_speed;
     let terrains: Vec<_> = table
         .iter()
         .map(|&(i, n, vib, e, s)| {
-            let mut t = terrain(i, n, &[("drive", resp(s, false, 0.0, 0.0))]);
+            let mut t = terrain(i, n, &[("drive", resp(s, false, 0.0, e * s * v_max))]);
             t.vibration = vib;
             t.energy_per_m = e;
             t
