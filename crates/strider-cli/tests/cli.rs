@@ -2,39 +2,9 @@
 //! one-line errors on bad input.
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-fn strider(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strider"))
-        .args(args)
-        .output()
-        .expect("run strider")
-}
-
-/// A fresh directory under the system temp dir, unique per test.
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strider-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// The error contract: exit code 1 and exactly one line on stderr starting with `error: `.
-fn assert_one_line_error(o: &Output) -> String {
-    assert_eq!(o.status.code(), Some(1), "stderr: {}", stderr(o));
-    let e = stderr(o);
-    assert_eq!(
-        e.trim_end().lines().count(),
-        1,
-        "one line expected, got: {e}"
-    );
-    assert!(e.starts_with("error: "), "{e}");
-    e
-}
+mod common;
+use common::{one_line_error, stderr, strider, temp_dir};
 
 #[test]
 fn scenario_list_names_every_builtin() {
@@ -58,7 +28,7 @@ fn scenario_list_names_every_builtin() {
 
 #[test]
 fn scenario_render_writes_layers() {
-    let dir = temp_dir("render");
+    let dir = temp_dir("cli", "render");
     let o = strider(&[
         "scenario",
         "render",
@@ -86,7 +56,7 @@ fn scenario_render_writes_layers() {
 }
 
 fn export(name: &str, tag: &str) -> PathBuf {
-    let dir = temp_dir(tag);
+    let dir = temp_dir("cli", tag);
     let o = strider(&["scenario", "export", name, "--out", dir.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(dir.join("scenario.toml").is_file());
@@ -96,7 +66,7 @@ fn export(name: &str, tag: &str) -> PathBuf {
 #[test]
 fn map_build_on_an_exported_scenario_writes_stats() {
     let scen = export("courtyard-small", "build-scen");
-    let out = temp_dir("build-out");
+    let out = temp_dir("cli", "build-out");
     let o = strider(&[
         "map",
         "build",
@@ -136,11 +106,11 @@ fn map_build_on_an_exported_scenario_writes_stats() {
 
 #[test]
 fn errors_are_one_line_and_name_the_problem() {
-    let out = temp_dir("errors-out");
+    let out = temp_dir("cli", "errors-out");
     let out_s = out.to_str().unwrap();
 
     // Unknown built-in and missing file.
-    let e = assert_one_line_error(&strider(&[
+    let e = one_line_error(&strider(&[
         "scenario",
         "render",
         "no-such-world",
@@ -151,7 +121,7 @@ fn errors_are_one_line_and_name_the_problem() {
         e.contains("courtyard-small"),
         "should list the valid names: {e}"
     );
-    let e = assert_one_line_error(&strider(&[
+    let e = one_line_error(&strider(&[
         "map",
         "build",
         "--scenario",
@@ -166,7 +136,7 @@ fn errors_are_one_line_and_name_the_problem() {
     let toml_path = scen.join("scenario.toml");
     let text = std::fs::read_to_string(&toml_path).unwrap();
     std::fs::write(&toml_path, text.replacen("[world]", "[world\n", 1)).unwrap();
-    let e = assert_one_line_error(&strider(&[
+    let e = one_line_error(&strider(&[
         "scenario",
         "render",
         toml_path.to_str().unwrap(),
@@ -178,7 +148,7 @@ fn errors_are_one_line_and_name_the_problem() {
     // Wrong PNG depth: an 8-bit RGB image where the 16-bit elevation belongs.
     std::fs::write(&toml_path, &text).unwrap();
     std::fs::copy(scen.join("color.png"), scen.join("elevation.png")).unwrap();
-    let e = assert_one_line_error(&strider(&[
+    let e = one_line_error(&strider(&[
         "scenario",
         "render",
         toml_path.to_str().unwrap(),
@@ -188,7 +158,7 @@ fn errors_are_one_line_and_name_the_problem() {
     assert!(e.contains("elevation.png") && e.contains("16-bit"), "{e}");
 
     // A robot without a range sensor cannot build a map.
-    let e = assert_one_line_error(&strider(&[
+    let e = one_line_error(&strider(&[
         "map",
         "build",
         "--scenario",
@@ -199,7 +169,7 @@ fn errors_are_one_line_and_name_the_problem() {
     assert!(e.contains("sensor"), "{e}");
 
     // Nonsense numbers are refused, not run.
-    let e = assert_one_line_error(&strider(&[
+    let e = one_line_error(&strider(&[
         "map",
         "build",
         "--lane-spacing=-1",
@@ -217,7 +187,7 @@ GTSP_SET_SECTION\n1 1 2 -1\n2 3 4 -1\n3 5 6 -1\nEOF\n";
 
 #[test]
 fn gtsp_solve_prints_one_json_object_with_a_feasible_tour() {
-    let dir = temp_dir("gtsp-solve");
+    let dir = temp_dir("cli", "gtsp-solve");
     let f = dir.join("tiny6.gtsp");
     std::fs::write(&f, TINY).unwrap();
     let o = strider(&[
@@ -251,7 +221,7 @@ fn gtsp_solve_prints_one_json_object_with_a_feasible_tour() {
 
 #[test]
 fn gtsp_bench_reports_gaps_and_a_summary_line() {
-    let dir = temp_dir("gtsp-bench");
+    let dir = temp_dir("cli", "gtsp-bench");
     std::fs::write(dir.join("tiny6.gtsp"), TINY).unwrap();
     std::fs::write(
         dir.join("best_known.csv"),
@@ -283,7 +253,7 @@ fn gtsp_bench_reports_gaps_and_a_summary_line() {
 
     // A malformed instance: the error names the file and the line.
     std::fs::write(dir.join("tiny6.gtsp"), TINY.replace("3 3 0", "3 3 zero")).unwrap();
-    let e = assert_one_line_error(&strider(&[
+    let e = one_line_error(&strider(&[
         "gtsp",
         "bench",
         dir.to_str().unwrap(),
@@ -295,7 +265,7 @@ fn gtsp_bench_reports_gaps_and_a_summary_line() {
 
 #[test]
 fn gp_predict_writes_mean_and_variance_and_reports_bad_rows() {
-    let dir = temp_dir("gp-predict");
+    let dir = temp_dir("cli", "gp-predict");
     let (train, query, out, timing) = (
         dir.join("train.csv"),
         dir.join("query.csv"),
@@ -353,7 +323,7 @@ fn gp_predict_writes_mean_and_variance_and_reports_bad_rows() {
         ("x,y\n0.0,NaN\n", "line 2: field 2 is NaN"),
     ] {
         std::fs::write(&train, content).unwrap();
-        let e = assert_one_line_error(&strider(&[
+        let e = one_line_error(&strider(&[
             "gp",
             "predict",
             "--train",
@@ -371,7 +341,7 @@ fn gp_predict_writes_mean_and_variance_and_reports_bad_rows() {
 /// the same mission (trajectory, models, termination).
 #[test]
 fn run_writes_a_deterministic_report() {
-    let d = temp_dir("run");
+    let d = temp_dir("cli", "run");
     let mut reports = Vec::new();
     for k in 0..2 {
         let out = d.join(format!("r{k}"));
@@ -414,5 +384,5 @@ fn run_writes_a_deterministic_report() {
     }
     assert_eq!(reports[0], reports[1]);
     let o = strider(&["run", "--strategy", "nope", "--out", d.to_str().unwrap()]);
-    assert!(assert_one_line_error(&o).contains("unknown strategy"));
+    assert!(one_line_error(&o).contains("unknown strategy"));
 }

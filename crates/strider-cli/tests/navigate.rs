@@ -1,35 +1,12 @@
 //! End-to-end tests of `strider navigate` (`004`): a short run writes the tables and figures
 //! with every configuration, and bad input ends in one clear line.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn strider(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strider"))
-        .args(args)
-        .output()
-        .expect("run strider")
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strider-nav-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// Exit code 1 and one line on stderr starting with `error: `; returns the line.
-fn one_line_error(o: &Output) -> String {
-    let e = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert_eq!(o.status.code(), Some(1), "stderr: {e}");
-    assert_eq!(e.trim_end().lines().count(), 1, "one line expected: {e}");
-    assert!(e.starts_with("error: "), "{e}");
-    e
-}
+mod common;
+use common::{one_line_error, strider, temp_dir};
 
 #[test]
 fn navigate_writes_tables_and_figures() {
-    let out = temp_dir("run");
+    let out = temp_dir("nav", "run");
     let o = strider(&[
         "navigate",
         "--runs",
@@ -89,7 +66,7 @@ fn navigate_writes_tables_and_figures() {
 
 #[test]
 fn navigate_rejects_bad_input() {
-    let dir = temp_dir("bad");
+    let dir = temp_dir("nav", "bad");
     let small = dir.join("small.png");
     image::RgbImage::from_pixel(100, 80, image::Rgb([10, 20, 30]))
         .save(&small)

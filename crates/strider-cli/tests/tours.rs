@@ -1,38 +1,12 @@
 //! End-to-end tests of `strider tours` (`003` repeated tours): its tables and figures, and its
 //! one-line errors on bad tours.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+
+mod common;
+use common::{one_line_error, stderr, strider, temp_dir};
 
 use serde_json::Value;
-
-fn strider(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_strider"))
-        .args(args)
-        .output()
-        .expect("run strider")
-}
-
-/// A fresh directory under the system temp dir, unique per test.
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strider-tours-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// The error contract: exit code 1 and exactly one line on stderr starting with `error: `.
-fn one_line_error(o: &Output) -> String {
-    assert_eq!(o.status.code(), Some(1), "stderr: {}", stderr(o));
-    let e = stderr(o);
-    assert_eq!(e.trim_end().lines().count(), 1, "one line expected: {e}");
-    assert!(e.starts_with("error: "), "{e}");
-    e
-}
 
 fn json(path: &Path) -> Value {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -45,7 +19,7 @@ fn is_png(path: &Path) -> bool {
 
 #[test]
 fn tours_write_tables_and_figures() {
-    let dir = temp_dir("run");
+    let dir = temp_dir("tours", "run");
     let out = dir.to_str().unwrap();
     let o = strider(&["tours", "--tours", "5", "--out", out]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -101,7 +75,7 @@ fn tours_write_tables_and_figures() {
 
 #[test]
 fn several_seeds_are_counted_and_runs_repeat() {
-    let dir = temp_dir("seeds");
+    let dir = temp_dir("tours", "seeds");
     let out = dir.to_str().unwrap();
     let o = strider(&[
         "tours", "--tours", "2", "--seeds", "2", "--seed", "4", "--out", out,
@@ -121,7 +95,7 @@ fn several_seeds_are_counted_and_runs_repeat() {
     );
 
     // The same seed again gives the same tours.
-    let again = temp_dir("seeds-again");
+    let again = temp_dir("tours", "seeds-again");
     let o = strider(&[
         "tours",
         "--tours",
@@ -137,7 +111,7 @@ fn several_seeds_are_counted_and_runs_repeat() {
 
 #[test]
 fn bad_tours_give_one_line_errors() {
-    let dir = temp_dir("bad");
+    let dir = temp_dir("tours", "bad");
     let scen = dir.join("scenario");
     let o = strider(&[
         "scenario",

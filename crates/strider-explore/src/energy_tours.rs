@@ -534,3 +534,20 @@ pub fn run_energy_tours<R: Robot>(
         maps,
     })
 }
+
+/// Parameters of the unit tests' 2 × 1 m arena: a closed tour over `waypoints`, 5 cm cells, gait
+/// 0 at 0.1 m/s, 0.2 W hotel load, a 0.5 kg rover.
+#[cfg(test)]
+pub(crate) fn test_params(waypoints: Vec<Point2>) -> EnergyTourParams {
+    EnergyTourParams::new(
+        waypoints,
+        true,
+        Point2::new(0.0, 0.0),
+        Point2::new(2.0, 1.0),
+        0.05,
+        GaitId(0),
+        0.1,
+        0.2,
+        0.5,
+    )
+}

@@ -356,20 +356,9 @@ impl SensorSink for EnergyMeter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use strider_core::GaitId;
 
     fn params() -> EnergyTourParams {
-        EnergyTourParams::new(
-            vec![Point2::new(0.2, 0.2), Point2::new(1.0, 0.2)],
-            true,
-            Point2::new(0.0, 0.0),
-            Point2::new(2.0, 1.0),
-            0.05,
-            GaitId(0),
-            0.1,
-            0.2,
-            0.5,
-        )
+        crate::energy_tours::test_params(vec![Point2::new(0.2, 0.2), Point2::new(1.0, 0.2)])
     }
 
     fn pose(t: f64, x: f64, y: f64, yaw: f64) -> PoseStamped {

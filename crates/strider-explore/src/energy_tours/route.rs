@@ -338,20 +338,9 @@ fn pull(grid: &CostGrid, cells: &[Cell], start: Point2, end: Point2) -> Vec<Poin
 #[cfg(test)]
 mod tests {
     use super::*;
-    use strider_core::GaitId;
 
     fn params(w: Vec<Point2>) -> EnergyTourParams {
-        EnergyTourParams::new(
-            w,
-            true,
-            Point2::new(0.0, 0.0),
-            Point2::new(2.0, 1.0),
-            0.05,
-            GaitId(0),
-            0.1,
-            0.2,
-            0.5,
-        )
+        crate::energy_tours::test_params(w)
     }
 
     fn flat_map(p: &TourPlanner) -> EnergyMap {
