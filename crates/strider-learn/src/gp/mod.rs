@@ -498,13 +498,7 @@ impl Gp {
                 self.dim
             )));
         }
-        for (j, p) in xs.chunks_exact(self.dim).enumerate() {
-            if let Some(k) = p.iter().position(|v| !v.is_finite()) {
-                return Err(GpError::NonFinite {
-                    what: format!("x[{k}] of query {j}"),
-                });
-            }
-        }
+        check_queries(xs, self.dim)?;
         let n = self.len();
         let s2 = self.params.kernel.signal_variance;
         let m = self.params.prior_mean;
@@ -551,13 +545,7 @@ impl Gp {
                 self.dim
             )));
         }
-        for (j, p) in xs.chunks_exact(self.dim).enumerate() {
-            if let Some(k) = p.iter().position(|v| !v.is_finite()) {
-                return Err(GpError::NonFinite {
-                    what: format!("x[{k}] of query {j}"),
-                });
-            }
-        }
+        check_queries(xs, self.dim)?;
         let n = self.len();
         let m = self.params.prior_mean;
         if n == 0 {
@@ -771,6 +759,19 @@ fn check_y(y: f64, i: usize) -> Result<(), GpError> {
         return Err(GpError::NonFinite {
             what: format!("y of point {i}"),
         });
+    }
+    Ok(())
+}
+
+/// Every coordinate of the q × `dim` row-major queries `xs` is finite; otherwise the error names
+/// the first bad coordinate and its query.
+fn check_queries(xs: &[f64], dim: usize) -> Result<(), GpError> {
+    for (j, p) in xs.chunks_exact(dim).enumerate() {
+        if let Some(k) = p.iter().position(|v| !v.is_finite()) {
+            return Err(GpError::NonFinite {
+                what: format!("x[{k}] of query {j}"),
+            });
+        }
     }
     Ok(())
 }
