@@ -35,13 +35,14 @@ use strider_explore::navigate::{
     DriveResult, ModelField, ModelKind, NavigateParams, NavigationLog, NavigationMap, Objective,
     drive_task, navigate, task_cells,
 };
+use strider_explore::stats::Summary;
 use strider_plan::grid::lcb::{LcbParams, Rectifier, lcb_grid, lcb_path};
 use strider_plan::grid::{CostGrid, Dijkstra};
 use strider_scenario::Scenario;
 use strider_sim::Simulator;
 
 use crate::cmd_scenario::load;
-use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
+use crate::render::{Canvas, line_chart, palette, rgb_canvas, scalar_canvas};
 
 /// Arguments of `strider navigate`.
 #[derive(Args, Debug)]
@@ -564,18 +565,10 @@ fn accuracy(field: &ModelField, truth: &[f64], admissible: &[bool]) -> (f64, f64
     ((se / n as f64).sqrt(), m2.sqrt())
 }
 
+/// Mean and sample standard deviation of the finite values (NaN, NaN when there are none).
 fn mean_std(v: &[f64]) -> (f64, f64) {
-    let v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return (f64::NAN, f64::NAN);
-    }
-    let m = v.iter().sum::<f64>() / v.len() as f64;
-    let s = if v.len() > 1 {
-        (v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (v.len() - 1) as f64).sqrt()
-    } else {
-        0.0
-    };
-    (m, s)
+    let finite: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    Summary::of(&finite).map_or((f64::NAN, f64::NAN), |s| (s.mean, s.std))
 }
 
 /// First run from which every run stays within [`WITHIN`] of the least-cost path's drive.
@@ -1013,45 +1006,16 @@ fn write_figures(site: &Site, groups: &[Group], out: &Path) -> Result<()> {
 }
 
 /// Experienced cost per run for every configuration (coloured as in the path figure), with the
-/// shortest (red) and least-cost (white) drives as horizontal lines; y from 0.
+/// shortest (red) and least-cost (dark grey) drives as horizontal lines; y from 0.
 fn cost_chart(g: &Group) -> Result<Canvas> {
-    let (w, h) = (300u32, 200u32);
-    let rect = strider_core::CellRect::new(Cell::new(0, 0), w, h);
-    let mut c = Canvas::new(rect, 1.0, 3);
-    c.fill(|_| Some([250, 250, 250]));
-    let runs = g.configs.first().map_or(1, |x| x.1.runs.len()).max(2);
-    let mut hi = g
-        .shortest
-        .1
-        .experienced_cost
-        .max(g.least_cost.1.experienced_cost);
-    for (_, log, _) in &g.configs {
-        for v in costs(log) {
-            hi = hi.max(v);
-        }
-    }
-    let hi = if hi > 0.0 { hi * 1.05 } else { 1.0 };
-    let (x0, x1, y0, y1) = (20.0, 290.0, 15.0, 190.0);
-    let px = |r: usize| x0 + (r as f64 - 1.0) / (runs as f64 - 1.0) * (x1 - x0);
-    let py = |v: f64| y0 + v / hi * (y1 - y0);
-    c.polyline(&[Point2::new(x0, y0), Point2::new(x1, y0)], [60, 60, 60], 1);
-    c.polyline(&[Point2::new(x0, y0), Point2::new(x0, y1)], [60, 60, 60], 1);
-    for (v, col) in [
+    let series: Vec<(Vec<f64>, [u8; 3])> = g
+        .configs
+        .iter()
+        .map(|(cfg, log, _)| (costs(log), config_color(cfg)))
+        .collect();
+    let hlines = [
         (g.shortest.1.experienced_cost, SHORTEST),
         (g.least_cost.1.experienced_cost, [40, 40, 40]),
-    ] {
-        c.polyline(&[Point2::new(x0, py(v)), Point2::new(x1, py(v))], col, 1);
-    }
-    for (cfg, log, _) in &g.configs {
-        let pts: Vec<Point2> = log
-            .runs
-            .iter()
-            .map(|r| Point2::new(px(r.run), py(r.drive.experienced_cost)))
-            .collect();
-        c.polyline(&pts, config_color(cfg), 2);
-        for p in &pts {
-            c.marker(*p, config_color(cfg), 1);
-        }
-    }
-    Ok(c)
+    ];
+    Ok(line_chart(&series, &hlines, "RUN", ""))
 }

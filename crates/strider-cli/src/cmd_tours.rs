@@ -30,7 +30,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use rayon::prelude::*;
 use serde_json::{Value, json};
-use strider_core::{Cell, CellRect, GaitId, Point2};
+use strider_core::{CellRect, GaitId};
 use strider_explore::energy_tours::{
     EnergyMap, EnergyTourParams, PlannedTour, TourPlanner, TourRecord, ToursOutcome,
     drive_fixed_tour, plan_shortest, run_energy_tours,
@@ -41,7 +41,7 @@ use strider_sim::motion::STUCK_SPEED_CEILING;
 use strider_sim::terrain::TerrainTable;
 
 use crate::cmd_scenario::load;
-use crate::render::{Canvas, scalar_canvas};
+use crate::render::{Canvas, line_chart, scalar_canvas};
 
 /// Arguments of `strider tours`.
 #[derive(Args, Debug)]
@@ -674,8 +674,6 @@ fn write_summary(sc: &Scenario, args: &ToursArgs, rows: &[(u64, Summary)]) -> Re
 // Figures.
 
 const WHITE: [u8; 3] = [255, 255, 255];
-const BLACK: [u8; 3] = [0, 0, 0];
-const GRID: [u8; 3] = [225, 225, 225];
 const BLUE: [u8; 3] = [31, 119, 180];
 const ORANGE: [u8; 3] = [255, 127, 14];
 const GREEN: [u8; 3] = [44, 160, 44];
@@ -683,25 +681,28 @@ const MAGENTA: [u8; 3] = [255, 0, 255];
 
 fn figures(r: &SeedRun, s: &Summary, dir: &Path) -> Result<()> {
     let e = |v: &[TourRecord]| -> Vec<f64> { v.iter().map(|x| x.measured.energy_j).collect() };
+    let chart = |series: &[(Vec<f64>, [u8; 3])], name: &str| {
+        line_chart(series, &[], "TOUR", "J").save(&dir.join(name))
+    };
     chart(
         &[
             (e(&r.outcome.tours), BLUE),
             (e(&r.shortest), ORANGE),
             (e(&r.known), GREEN),
         ],
-        &dir.join("energy_per_tour.png"),
+        "energy_per_tour.png",
     )?;
     chart(
         &[
             (s.cumulative.iter().map(|c| c.0).collect(), BLUE),
             (s.cumulative.iter().map(|c| c.1).collect(), ORANGE),
         ],
-        &dir.join("cumulative_energy.png"),
+        "cumulative_energy.png",
     )?;
     // The same as one curve: below zero, exploring has cost less in total so far.
     chart(
         &[(s.cumulative.iter().map(|c| c.0 - c.1).collect(), BLUE)],
-        &dir.join("cumulative_difference.png"),
+        "cumulative_difference.png",
     )?;
     // One colour scale for the truth and every learnt map.
     let hi = r
@@ -772,144 +773,4 @@ fn figures(r: &SeedRun, s: &Summary, dir: &Path) -> Result<()> {
         )?;
     }
     Ok(())
-}
-
-/// 3×5 glyphs, rows top to bottom, bits left to right.
-fn glyph(ch: char) -> [u8; 5] {
-    match ch {
-        '0' | 'O' => [7, 5, 5, 5, 7],
-        '1' => [2, 6, 2, 2, 7],
-        '2' => [7, 1, 7, 4, 7],
-        '3' => [7, 1, 7, 1, 7],
-        '4' => [5, 5, 7, 1, 1],
-        '5' => [7, 4, 7, 1, 7],
-        '6' => [7, 4, 7, 5, 7],
-        '7' => [7, 1, 1, 1, 1],
-        '8' => [7, 5, 7, 5, 7],
-        '9' => [7, 5, 7, 1, 7],
-        'J' => [1, 1, 1, 5, 7],
-        'T' => [7, 2, 2, 2, 2],
-        'U' => [5, 5, 5, 5, 7],
-        'R' => [6, 5, 6, 5, 5],
-        _ => [0; 5],
-    }
-}
-
-/// Draws `text` with its lower-left corner at pixel (x, y) (y up), 2 pixels per glyph pixel.
-fn text(c: &mut Canvas, x: f64, y: f64, text: &str) {
-    for (i, ch) in text.chars().enumerate() {
-        let g = glyph(ch);
-        for (row, bits) in g.iter().enumerate() {
-            for col in 0..3 {
-                if bits & (4 >> col) != 0 {
-                    for (dx, dy) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
-                        let px = x + (i * 8 + col * 2) as f64 + dx + 0.5;
-                        let py = y + ((4 - row) * 2) as f64 + dy + 0.5;
-                        c.marker(Point2::new(px, py), BLACK, 0);
-                    }
-                }
-            }
-        }
-    }
-}
-
-/// A round step of about a fifth of `span`.
-fn nice_step(span: f64) -> f64 {
-    let raw = (span / 5.0).max(1e-9);
-    let mag = 10f64.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .map(|m| m * mag)
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * mag)
-}
-
-/// A line chart of series over tours 1..n (x) in joules (y, a range that includes 0), with tick
-/// labels.
-fn chart(series: &[(Vec<f64>, [u8; 3])], path: &Path) -> Result<()> {
-    const W: u32 = 720;
-    const H: u32 = 420;
-    const L: f64 = 70.0;
-    const B: f64 = 45.0;
-    const R: f64 = 20.0;
-    const T: f64 = 20.0;
-    let n = series.iter().map(|s| s.0.len()).max().unwrap_or(0).max(2);
-    let (lo_data, hi_data) = series
-        .iter()
-        .flat_map(|s| s.0.iter())
-        .filter(|v| v.is_finite())
-        .fold((0.0f64, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
-    let step = nice_step((hi_data - lo_data).max(1e-6));
-    let ymin = (lo_data / step).floor() * step;
-    let ymax = ((hi_data / step).ceil() * step).max(ymin + step);
-    let rect = CellRect::new(Cell::new(0, 0), W, H);
-    let mut c = Canvas::new(rect, 1.0, 1);
-    c.fill(|_| Some(WHITE));
-    // Whole pixels plus a half: the canvas truncates coordinates, and a line along a pixel
-    // edge would lose pixels to rounding.
-    let px = |k: f64| (L + (k - 1.0) / (n as f64 - 1.0) * (W as f64 - L - R)).round() + 0.5;
-    let py = |v: f64| (B + (v - ymin) / (ymax - ymin) * (H as f64 - B - T)).round() + 0.5;
-    let ticks = ((ymax - ymin) / step).round() as i64;
-    for i in 0..=ticks {
-        let v = ymin + i as f64 * step;
-        let col = if v.abs() < 1e-9 * step { BLACK } else { GRID };
-        c.polyline(
-            &[
-                Point2::new(L + 0.5, py(v)),
-                Point2::new(W as f64 - R, py(v)),
-            ],
-            col,
-            1,
-        );
-        let label = if step >= 1.0 {
-            format!("{v:.0}")
-        } else {
-            format!("{v:.1}")
-        };
-        text(
-            &mut c,
-            L - 8.0 - 8.0 * label.len() as f64,
-            py(v) - 5.0,
-            &label,
-        );
-    }
-    let xstep = if n <= 10 { 1 } else { 5 };
-    for k in 1..=n {
-        if k == 1 || k.is_multiple_of(xstep) {
-            let x = px(k as f64);
-            c.polyline(
-                &[Point2::new(x, B + 0.5), Point2::new(x, B - 4.5)],
-                BLACK,
-                1,
-            );
-            let label = k.to_string();
-            text(&mut c, x - 4.0 * label.len() as f64, B - 20.0, &label);
-        }
-    }
-    let (x0, y0) = (L + 0.5, B + 0.5);
-    c.polyline(
-        &[Point2::new(x0, y0), Point2::new(W as f64 - R, y0)],
-        BLACK,
-        1,
-    );
-    c.polyline(
-        &[Point2::new(x0, y0), Point2::new(x0, H as f64 - T)],
-        BLACK,
-        1,
-    );
-    text(&mut c, 8.0, H as f64 - T - 10.0, "J");
-    text(&mut c, W as f64 - R - 40.0, 6.0, "TOUR");
-    for (ys, col) in series {
-        let pts: Vec<Point2> = ys
-            .iter()
-            .enumerate()
-            .filter(|(_, v)| v.is_finite())
-            .map(|(k, &v)| Point2::new(px(k as f64 + 1.0), py(v)))
-            .collect();
-        c.polyline(&pts, *col, 2);
-        for p in &pts {
-            c.marker(*p, *col, 3);
-        }
-    }
-    c.save(path)
 }

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use image::{Rgb, RgbImage};
-use strider_core::{CellRect, Point2, Rgb8};
+use strider_core::{Cell, CellRect, Point2, Rgb8};
 
 /// An RGB canvas over a cell rectangle, north up.
 pub struct Canvas {
@@ -187,6 +187,170 @@ pub fn rgb_canvas(rect: CellRect, resolution: f64, scale: u32, colors: &[Option<
     c
 }
 
+const WHITE: [u8; 3] = [255, 255, 255];
+const BLACK: [u8; 3] = [0, 0, 0];
+const GRID: [u8; 3] = [225, 225, 225];
+
+/// 3×5 glyphs, rows top to bottom, bits left to right.
+pub fn glyph(ch: char) -> [u8; 5] {
+    match ch {
+        '0' | 'O' => [7, 5, 5, 5, 7],
+        '1' => [2, 6, 2, 2, 7],
+        '2' => [7, 1, 7, 4, 7],
+        '3' => [7, 1, 7, 1, 7],
+        '4' => [5, 5, 7, 1, 1],
+        '5' => [7, 4, 7, 1, 7],
+        '6' => [7, 4, 7, 5, 7],
+        '7' => [7, 1, 1, 1, 1],
+        '8' => [7, 5, 7, 5, 7],
+        '9' => [7, 5, 7, 1, 7],
+        'J' => [1, 1, 1, 5, 7],
+        'T' => [7, 2, 2, 2, 2],
+        'U' => [5, 5, 5, 5, 7],
+        'R' => [6, 5, 6, 5, 5],
+        'N' => [5, 7, 7, 5, 5],
+        _ => [0; 5],
+    }
+}
+
+/// Draws `text` with its lower-left corner at pixel (x, y) (y up), 2 pixels per glyph pixel.
+fn text(c: &mut Canvas, x: f64, y: f64, text: &str) {
+    for (i, ch) in text.chars().enumerate() {
+        let g = glyph(ch);
+        for (row, bits) in g.iter().enumerate() {
+            for col in 0..3 {
+                if bits & (4 >> col) != 0 {
+                    for (dx, dy) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+                        let px = x + (i * 8 + col * 2) as f64 + dx + 0.5;
+                        let py = y + ((4 - row) * 2) as f64 + dy + 0.5;
+                        c.marker(Point2::new(px, py), BLACK, 0);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A round step of about a fifth of `span`.
+fn nice_step(span: f64) -> f64 {
+    let raw = (span / 5.0).max(1e-9);
+    let mag = 10f64.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag)
+}
+
+/// A line chart of `series` over 1..n (x, one point per entry; non-finite entries skipped) on a y
+/// range that includes 0, with tick labels, the axis names `x_label` and `y_label` (drawn with
+/// [`glyph`]'s characters) and horizontal reference lines `hlines` (value, colour).
+pub fn line_chart(
+    series: &[(Vec<f64>, [u8; 3])],
+    hlines: &[(f64, [u8; 3])],
+    x_label: &str,
+    y_label: &str,
+) -> Canvas {
+    const W: u32 = 720;
+    const H: u32 = 420;
+    const L: f64 = 70.0;
+    const B: f64 = 45.0;
+    const R: f64 = 20.0;
+    const T: f64 = 20.0;
+    let n = series.iter().map(|s| s.0.len()).max().unwrap_or(0).max(2);
+    let (lo_data, hi_data) = series
+        .iter()
+        .flat_map(|s| s.0.iter())
+        .chain(hlines.iter().map(|h| &h.0))
+        .filter(|v| v.is_finite())
+        .fold((0.0f64, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
+    let step = nice_step((hi_data - lo_data).max(1e-6));
+    let ymin = (lo_data / step).floor() * step;
+    let ymax = ((hi_data / step).ceil() * step).max(ymin + step);
+    let rect = CellRect::new(Cell::new(0, 0), W, H);
+    let mut c = Canvas::new(rect, 1.0, 1);
+    c.fill(|_| Some(WHITE));
+    // Whole pixels plus a half: the canvas truncates coordinates, and a line along a pixel
+    // edge would lose pixels to rounding.
+    let px = |k: f64| (L + (k - 1.0) / (n as f64 - 1.0) * (W as f64 - L - R)).round() + 0.5;
+    let py = |v: f64| (B + (v - ymin) / (ymax - ymin) * (H as f64 - B - T)).round() + 0.5;
+    let ticks = ((ymax - ymin) / step).round() as i64;
+    for i in 0..=ticks {
+        let v = ymin + i as f64 * step;
+        let col = if v.abs() < 1e-9 * step { BLACK } else { GRID };
+        c.polyline(
+            &[
+                Point2::new(L + 0.5, py(v)),
+                Point2::new(W as f64 - R, py(v)),
+            ],
+            col,
+            1,
+        );
+        let label = if step >= 1.0 {
+            format!("{v:.0}")
+        } else {
+            format!("{v:.1}")
+        };
+        text(
+            &mut c,
+            L - 8.0 - 8.0 * label.len() as f64,
+            py(v) - 5.0,
+            &label,
+        );
+    }
+    let xstep = if n <= 10 { 1 } else { 5 };
+    for k in 1..=n {
+        if k == 1 || k.is_multiple_of(xstep) {
+            let x = px(k as f64);
+            c.polyline(
+                &[Point2::new(x, B + 0.5), Point2::new(x, B - 4.5)],
+                BLACK,
+                1,
+            );
+            let label = k.to_string();
+            text(&mut c, x - 4.0 * label.len() as f64, B - 20.0, &label);
+        }
+    }
+    let (x0, y0) = (L + 0.5, B + 0.5);
+    c.polyline(
+        &[Point2::new(x0, y0), Point2::new(W as f64 - R, y0)],
+        BLACK,
+        1,
+    );
+    c.polyline(
+        &[Point2::new(x0, y0), Point2::new(x0, H as f64 - T)],
+        BLACK,
+        1,
+    );
+    text(&mut c, 8.0, H as f64 - T - 10.0, y_label);
+    text(
+        &mut c,
+        W as f64 - R - 10.0 * x_label.len() as f64,
+        6.0,
+        x_label,
+    );
+    for &(v, col) in hlines.iter().filter(|h| h.0.is_finite()) {
+        c.polyline(
+            &[Point2::new(x0, py(v)), Point2::new(W as f64 - R, py(v))],
+            col,
+            1,
+        );
+    }
+    for (ys, col) in series {
+        let pts: Vec<Point2> = ys
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.is_finite())
+            .map(|(k, &v)| Point2::new(px(k as f64 + 1.0), py(v)))
+            .collect();
+        c.polyline(&pts, *col, 2);
+        for p in &pts {
+            c.marker(*p, *col, 3);
+        }
+    }
+    c
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -200,6 +364,32 @@ mod tests {
         // Cell (0,0) is the lowest row: bottom-left pixel.
         assert_eq!(c.img.get_pixel(0, 1).0, [255, 0, 0]);
         assert_eq!(c.img.get_pixel(0, 0).0, UNKNOWN);
+    }
+
+    #[test]
+    fn line_chart_draws_series_and_reference_lines_with_zero_in_range() {
+        let red = [200, 0, 0];
+        let ref_line = [0, 0, 200];
+        let c = line_chart(
+            &[(vec![10.0, f64::NAN, 30.0], red)],
+            &[(20.0, ref_line)],
+            "RUN",
+            "J",
+        );
+        let count = |col: [u8; 3]| c.img.pixels().filter(|p| p.0 == col).count();
+        assert!(count(red) > 100, "series drawn");
+        assert!(count(ref_line) > 100, "reference line drawn");
+        // The reference line is one horizontal row of pixels.
+        let rows: std::collections::BTreeSet<u32> = c
+            .img
+            .enumerate_pixels()
+            .filter(|(_, _, p)| p.0 == ref_line)
+            .map(|(_, y, _)| y)
+            .collect();
+        assert_eq!(rows.len(), 1);
+        // All-negative data still get a range that includes 0: nothing panics, the curve shows.
+        let c = line_chart(&[(vec![-5.0, -1.0], red)], &[], "TOUR", "J");
+        assert!(c.img.pixels().any(|p| p.0 == red));
     }
 
     #[test]
