@@ -246,27 +246,39 @@ impl CellRay {
     pub fn end(&self) -> Cell {
         self.end
     }
+
+    /// The next cell and where the segment leaves it, as a fraction t ∈ [0, 1] of the segment
+    /// (1 for the last cell). The part of the segment inside the cell runs from the previous
+    /// cell's exit (0 for the first) to this one, so lengths along the segment are exact.
+    #[inline]
+    pub fn next_with_exit(&mut self) -> Option<(Cell, f64)> {
+        if self.remaining == 0 {
+            return None;
+        }
+        let out = self.cell;
+        self.remaining -= 1;
+        let exit;
+        if out == self.end {
+            self.remaining = 0;
+            exit = 1.0;
+        } else if self.t_max_x < self.t_max_y {
+            exit = self.t_max_x.min(1.0);
+            self.cell.i += self.step_i;
+            self.t_max_x += self.t_delta_x;
+        } else {
+            exit = self.t_max_y.min(1.0);
+            self.cell.j += self.step_j;
+            self.t_max_y += self.t_delta_y;
+        }
+        Some((out, exit))
+    }
 }
 
 impl Iterator for CellRay {
     type Item = Cell;
     #[inline]
     fn next(&mut self) -> Option<Cell> {
-        if self.remaining == 0 {
-            return None;
-        }
-        let out = self.cell;
-        self.remaining -= 1;
-        if out == self.end {
-            self.remaining = 0;
-        } else if self.t_max_x < self.t_max_y {
-            self.cell.i += self.step_i;
-            self.t_max_x += self.t_delta_x;
-        } else {
-            self.cell.j += self.step_j;
-            self.t_max_y += self.t_delta_y;
-        }
-        Some(out)
+        self.next_with_exit().map(|(c, _)| c)
     }
 }
 
@@ -299,6 +311,23 @@ mod tests {
             assert_eq!(r.index(r.cell(k)), Some(k));
         }
         assert_eq!(r.index(Cell::new(4, 5)), None);
+    }
+
+    #[test]
+    fn exits_split_the_segment_into_the_lengths_inside_each_cell() {
+        // From (0.05, 0.05) to (0.35, 0.15) with d = 0.1: x crosses 0.1, 0.2, 0.3 at t = 1/6,
+        // 1/2, 5/6 and y crosses 0.1 at t = 1/2 (a corner: one side cell with zero length).
+        let mut r = CellRay::new(Point2::new(0.05, 0.05), Point2::new(0.35, 0.15), 0.1);
+        let mut seen = Vec::new();
+        while let Some(x) = r.next_with_exit() {
+            seen.push(x);
+        }
+        let exits: Vec<f64> = seen.iter().map(|x| x.1).collect();
+        assert_eq!(seen.first().map(|x| x.0), Some(Cell::new(0, 0)));
+        assert_eq!(seen.last().map(|x| x.0), Some(Cell::new(3, 1)));
+        assert!(exits.windows(2).all(|w| w[0] <= w[1] + 1e-12), "{exits:?}");
+        assert!((exits[0] - 1.0 / 6.0).abs() < 1e-12);
+        assert_eq!(*exits.last().unwrap(), 1.0);
     }
 
     proptest! {

@@ -17,6 +17,7 @@
 //!   kink, which costs energy the model does not see.
 
 use serde::Serialize;
+use strider_core::grid::CellRay;
 use strider_core::{Cell, CellRect, Point2};
 use strider_plan::grid::{CostGrid, Dijkstra};
 use strider_plan::tsplib::{CostMatrix, Instance};
@@ -281,24 +282,24 @@ impl TourPlanner {
     }
 }
 
-/// Cost of the straight segment `a`–`b` under `grid`, J: the cost of the cell under each of
-/// eight sub-steps per cell times the sub-step length. `None` when it leaves the grid or
-/// crosses an inadmissible cell.
+/// Cost of the straight segment `a`–`b` under `grid`, J: the cost of each cell it crosses times
+/// the length of the segment inside that cell (exact, from the shared Amanatides–Woo traversal).
+/// `None` when it leaves the grid or crosses an inadmissible cell.
 fn segment_cost(grid: &CostGrid, a: Point2, b: Point2) -> Option<f64> {
-    let d = grid.cell_size();
     let len = a.dist(b);
-    let n = (len / (d / 8.0)).ceil().max(1.0) as usize;
-    let step = len / n as f64;
-    let mut total = 0.0;
-    for k in 0..n {
-        let p = lerp(a, b, (k as f64 + 0.5) / n as f64);
-        let c = grid.cost(Cell::containing(p.x, p.y, d)?)?;
+    let mut ray = CellRay::new(a, b, grid.cell_size());
+    let (mut total, mut entered) = (0.0, 0.0);
+    let mut any = false;
+    while let Some((cell, exit)) = ray.next_with_exit() {
+        any = true;
+        let c = grid.cost(cell)?;
         if !c.is_finite() {
             return None;
         }
-        total += c as f64 * step;
+        total += c as f64 * (exit - entered) * len;
+        entered = exit;
     }
-    Some(total)
+    any.then_some(total)
 }
 
 /// The cell path `cells` from `start` to `end` (the exact waypoints in its first and last
