@@ -236,7 +236,7 @@ pub fn run_tour<R: Robot>(
                 fallback_ticks += 1;
                 rough
             } else if let (Some(v), Some(c)) = (gait_view, map.cell_at(p.x, p.y)) {
-                v.choose_gait(c, r_robot).unwrap_or(gait)
+                v.choose_gait(c).unwrap_or(gait)
             } else {
                 fastest
             };

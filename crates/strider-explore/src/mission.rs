@@ -36,7 +36,7 @@ use strider_map::descriptors::{TA_BINS, color_histograms};
 use strider_map::information_gain::GainCache;
 use strider_map::reachability::Reachability;
 use strider_map::{ElevationMap, SpatialGoal, cluster_information};
-use strider_plan::grid::{Dijkstra, transform};
+use strider_plan::grid::Dijkstra;
 
 /// Cost windows in which the heading changed by more than this (summed |Δyaw|, rad) measure
 /// the path's turns rather than the terrain and are not stored.
@@ -197,8 +197,6 @@ pub struct Mission {
     learn_generation: u64,
     /// Offsets of the 3·r_robot disc the anchor cell is searched in (nearest first).
     anchor_offsets: Vec<(i32, i32)>,
-    /// Footprint offsets δ(r_robot) for the gait choice.
-    footprint: Vec<(i32, i32)>,
     /// End time of the look-around in progress.
     looking: Option<f64>,
     /// The last Alg. 6 outcome per gait model.
@@ -298,7 +296,6 @@ impl Mission {
             view: None,
             view_key: None,
             learn_generation: 0,
-            footprint: strider_core::grid::disc_offsets(params.map.r_robot, params.map.cell_size),
             anchor_offsets: strider_core::grid::disc_offsets(
                 3.0 * params.map.r_robot,
                 params.map.cell_size,
@@ -722,8 +719,8 @@ impl Mission {
         // replan and learning update); keep the gait where no gait's footprint is admissible.
         self.view
             .as_ref()
-            .and_then(|v| transform::choose_gait_with(&v.per_gait, here, &self.footprint))
-            .map_or(self.gait, |(g, _)| GaitId(g as u8))
+            .and_then(|v| v.choose_gait(here))
+            .unwrap_or(self.gait)
     }
 }
 

@@ -30,6 +30,9 @@ pub struct PlanningView {
     /// The planning grid: best-gait cost, distance transform with c_loss, footprint max (Eq. 12),
     /// +∞ where the robot's centre may not be (inadmissible or unknown cells).
     pub grid: CostGrid,
+    /// Footprint offsets δ(r_robot) for the gait choice, computed once per view rather than per
+    /// query (the gait is chosen at every control tick).
+    footprint: Vec<(i32, i32)>,
 }
 
 impl PlanningView {
@@ -91,6 +94,7 @@ impl PlanningView {
             per_gait,
             best_gait: best.gait,
             grid,
+            footprint: strider_core::grid::disc_offsets(map.params().r_robot, d),
         })
     }
 
@@ -99,9 +103,11 @@ impl PlanningView {
         self.grid.rect()
     }
 
-    /// Alg. 4 line 6: argmin_g max_{ν' ∈ δ(r_robot, ν)} ĉ_{C^g}(ν'); `None` off the view.
-    pub fn choose_gait(&self, cell: Cell, r_robot: f64) -> Option<GaitId> {
-        transform::choose_gait(&self.per_gait, cell, r_robot).map(|(g, _)| GaitId(g as u8))
+    /// Alg. 4 line 6: argmin_g max_{ν' ∈ δ(r_robot, ν)} ĉ_{C^g}(ν') with the map's r_robot;
+    /// `None` off the view.
+    pub fn choose_gait(&self, cell: Cell) -> Option<GaitId> {
+        transform::choose_gait_with(&self.per_gait, cell, &self.footprint)
+            .map(|(g, _)| GaitId(g as u8))
     }
 
     /// The cheapest path from `from` to `to` on the planning grid, as cell centres; `None` if

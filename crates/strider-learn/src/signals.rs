@@ -179,6 +179,21 @@ impl<T: Copy + Default> Ring<T> {
     fn iter(&self) -> impl Iterator<Item = T> + Clone + '_ {
         (0..self.len).map(move |i| self.buf[(self.head + i) % self.buf.len()])
     }
+
+    /// The number of leading elements for which `pred` holds (the ring must be partitioned by
+    /// it, as `slice::partition_point` requires): a binary search, O(log len).
+    fn partition_point(&self, pred: impl Fn(&T) -> bool) -> usize {
+        let (mut lo, mut hi) = (0, self.len);
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if pred(&self.buf[(self.head + mid) % self.buf.len()]) {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -230,6 +245,12 @@ struct TrackPose {
     stamp: f64,
     position: Point3,
     gait: GaitId,
+    /// Horizontal path length from the track's first pose ever to this one, m: the length over
+    /// any interval is a difference of two interpolated values instead of a sum over the window.
+    arc: f64,
+    /// Count of gait changes before this pose: the gait is constant between two poses exactly
+    /// when their counts are equal.
+    run: u64,
 }
 
 fn pose_is_finite(p: &PoseStamped) -> bool {
@@ -267,10 +288,19 @@ impl PoseTrack {
             skips.out_of_order += 1;
             return false;
         }
+        let (arc, run) = match self.ring.back() {
+            Some(last) => (
+                last.arc + last.position.xy().dist(pose.position.xy()),
+                last.run + u64::from(last.gait != gait),
+            ),
+            None => (0.0, 0),
+        };
         if self.ring.push_back(TrackPose {
             stamp: pose.stamp,
             position: pose.position,
             gait,
+            arc,
+            run,
         }) {
             skips.overrun += 1;
         }
@@ -298,47 +328,51 @@ impl PoseTrack {
         if t1 < t0 || !self.covers(t0, t1) {
             return None;
         }
-        let mut len = 0.0;
-        let mut prev: Option<TrackPose> = None;
-        for p in self.ring.iter() {
-            if let Some(q) = prev {
-                let (a, b) = (t0.max(q.stamp), t1.min(p.stamp));
-                if b > a {
-                    let seg = q.position.xy().dist(p.position.xy());
-                    let span = p.stamp - q.stamp;
-                    let frac = ((b - a) / span).min(1.0);
-                    len += seg * frac;
-                }
-            }
-            prev = Some(p);
-        }
-        Some(len)
+        Some((self.arc_at(t1) - self.arc_at(t0)).max(0.0))
     }
 
-    /// The gait when every pose bracketing `[t0, t1]` has the same one, else `None`.
-    fn constant_gait(&self, t0: f64, t1: f64) -> Option<GaitId> {
-        let mut gait = None;
+    /// The cumulative path length at time `t`, interpolated linearly inside its segment and
+    /// clamped to the track's ends. The track must not be empty.
+    fn arc_at(&self, t: f64) -> f64 {
         let n = self.ring.len();
-        for i in 0..n {
-            let p = self.ring.get(i)?;
-            let next_stamp = self.ring.get(i + 1).map_or(f64::INFINITY, |q| q.stamp);
-            let prev_stamp = if i == 0 {
-                f64::NEG_INFINITY
-            } else {
-                self.ring.get(i - 1)?.stamp
-            };
-            // The pose matters when it lies inside the interval or brackets one of its ends.
-            let relevant = (p.stamp >= t0 || next_stamp > t0) && (p.stamp <= t1 || prev_stamp < t1);
-            if !relevant {
-                continue;
+        let k = self.ring.partition_point(|p| p.stamp <= t);
+        match (
+            k.checked_sub(1).and_then(|i| self.ring.get(i)),
+            self.ring.get(k),
+        ) {
+            (Some(q), Some(p)) => {
+                let frac = ((t - q.stamp) / (p.stamp - q.stamp)).clamp(0.0, 1.0);
+                q.arc + (p.arc - q.arc) * frac
             }
-            match gait {
-                None => gait = Some(p.gait),
-                Some(g) if g != p.gait => return None,
-                Some(_) => {}
+            (Some(q), None) => q.arc,
+            (None, Some(p)) => p.arc,
+            (None, None) => {
+                debug_assert_eq!(n, 0);
+                0.0
             }
         }
-        gait
+    }
+
+    /// The gait when every pose bracketing `[t0, t1]` has the same one, else `None`. A pose
+    /// matters when it lies inside the interval or is the last one before `t0` or the first one
+    /// after `t1`.
+    fn constant_gait(&self, t0: f64, t1: f64) -> Option<GaitId> {
+        let n = self.ring.len();
+        if n == 0 {
+            return None;
+        }
+        // First relevant: the last pose at or before t0 (poses before it are followed by one
+        // at or before t0); last relevant: the first pose at or after t1.
+        let first = self
+            .ring
+            .partition_point(|p| p.stamp <= t0)
+            .saturating_sub(1);
+        let last = self.ring.partition_point(|p| p.stamp < t1).min(n - 1);
+        if first > last {
+            return None;
+        }
+        let (a, b) = (self.ring.get(first)?, self.ring.get(last)?);
+        (a.run == b.run).then_some(a.gait)
     }
 
     /// The pose whose stamp is nearest `t` (the earlier one on a tie); `None` when that pose is
@@ -347,14 +381,15 @@ impl PoseTrack {
         if !self.covers(t, t) {
             return None;
         }
-        let mut best: Option<(f64, TrackPose)> = None;
-        for p in self.ring.iter() {
-            let d = (p.stamp - t).abs();
-            if best.is_none_or(|(bd, _)| d < bd) {
-                best = Some((d, p));
-            }
+        // Stamps increase, so the nearest pose is the last one before t or the first at/after.
+        let k = self.ring.partition_point(|p| p.stamp < t);
+        match (
+            k.checked_sub(1).and_then(|i| self.ring.get(i)),
+            self.ring.get(k),
+        ) {
+            (Some(a), Some(b)) => Some(if t - a.stamp <= b.stamp - t { a } else { b }),
+            (a, b) => a.or(b),
         }
-        best.map(|(_, p)| p)
     }
 }
 
@@ -965,6 +1000,93 @@ mod tests {
         let v = [1.0, 2.0, 3.0, 4.0];
         let var = two_pass_variance(v.iter().copied(), 4);
         assert!((var - 5.0 / 3.0).abs() < 1e-15);
+    }
+
+    /// The window queries by definition, O(n) scans over every pose (the reference the O(log n)
+    /// queries are checked against).
+    fn brute_path_length(t: &PoseTrack, t0: f64, t1: f64) -> f64 {
+        let v: Vec<TrackPose> = t.ring.iter().collect();
+        v.windows(2)
+            .map(|w| {
+                let (q, p) = (w[0], w[1]);
+                let (a, b) = (t0.max(q.stamp), t1.min(p.stamp));
+                if b > a {
+                    q.position.xy().dist(p.position.xy()) * ((b - a) / (p.stamp - q.stamp)).min(1.0)
+                } else {
+                    0.0
+                }
+            })
+            .sum()
+    }
+
+    fn brute_constant_gait(t: &PoseTrack, t0: f64, t1: f64) -> Option<GaitId> {
+        let v: Vec<TrackPose> = t.ring.iter().collect();
+        let mut gait = None;
+        for (i, p) in v.iter().enumerate() {
+            let next = v.get(i + 1).map_or(f64::INFINITY, |q| q.stamp);
+            let prev = if i == 0 {
+                f64::NEG_INFINITY
+            } else {
+                v[i - 1].stamp
+            };
+            if (p.stamp >= t0 || next > t0) && (p.stamp <= t1 || prev < t1) {
+                match gait {
+                    None => gait = Some(p.gait),
+                    Some(g) if g != p.gait => return None,
+                    Some(_) => {}
+                }
+            }
+        }
+        gait
+    }
+
+    fn brute_nearest(t: &PoseTrack, at: f64) -> Option<f64> {
+        let mut best: Option<(f64, f64)> = None;
+        for p in t.ring.iter() {
+            let d = (p.stamp - at).abs();
+            if best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, p.stamp));
+            }
+        }
+        best.map(|(_, s)| s)
+    }
+
+    proptest::proptest! {
+        /// Cumulative arc length, gait-run counts and binary search give what the window scans
+        /// give, for wrapped rings, gait changes and intervals reaching past the track's ends.
+        #[test]
+        fn window_queries_match_scans(
+            steps in proptest::collection::vec((0.01f64..0.2, -0.3f64..0.3, -0.3f64..0.3, 0u8..3), 2..60),
+            cap in 3usize..40,
+            q in proptest::collection::vec((-0.5f64..1.5, 0.0f64..1.0), 1..12),
+        ) {
+            let mut t = PoseTrack::new(cap, 1e-3);
+            let mut sk = SkipCounts::default();
+            let (mut stamp, mut x, mut y) = (0.0, 0.0, 0.0);
+            for &(dt, dx, dy, g) in &steps {
+                stamp += dt;
+                x += dx;
+                y += dy;
+                let p = PoseStamped {
+                    stamp,
+                    position: Point3::new(x, y, 0.0),
+                    ..Default::default()
+                };
+                t.push(&p, GaitId(g / 2), &mut sk);
+            }
+            let (lo, hi) = (t.ring.front().unwrap().stamp, t.ring.back().unwrap().stamp);
+            for &(a, w) in &q {
+                let t0 = lo + a * (hi - lo);
+                let t1 = t0 + w * (hi - lo);
+                if let Some(len) = t.path_length(t0, t1) {
+                    proptest::prop_assert!((len - brute_path_length(&t, t0, t1)).abs() < 1e-9);
+                }
+                proptest::prop_assert_eq!(t.constant_gait(t0, t1), brute_constant_gait(&t, t0, t1));
+                if let Some(p) = t.nearest(t0) {
+                    proptest::prop_assert_eq!(Some(p.stamp), brute_nearest(&t, t0));
+                }
+            }
+        }
     }
 
     #[test]
