@@ -14,10 +14,10 @@ use strider_explore::{Mission, MissionLog, Strategy};
 
 use crate::cmd_scenario::load;
 use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
-use strider_cli::trial::{mission_params, run_mission, run_tours};
+use strider_cli::trial::{mission_params, run_mission, run_mission_recorded, run_tours};
 use strider_core::color::COLOR_PROTOTYPES;
 
-fn median_max(v: &[f64]) -> (f64, f64) {
+pub(crate) fn median_max(v: &[f64]) -> (f64, f64) {
     if v.is_empty() {
         return (0.0, 0.0);
     }
@@ -34,6 +34,7 @@ pub fn run(
     seed: u64,
     time_limit: Option<f64>,
     out: &Path,
+    mcap: Option<&Path>,
 ) -> Result<()> {
     let wall = Instant::now();
     let Some(strategy) = Strategy::parse(strategy) else {
@@ -58,13 +59,21 @@ pub fn run(
         )
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
     );
-    let (mission, log) = run_mission(&sc, params, seed, |p| {
+    let progress = |p: &strider_explore::MissionProgress| {
         bar.set_position(p.time_s as u64);
         bar.set_message(format!(
             "{} cells mapped, {} spatial + {} cost goals, {} learning pairs",
             p.observed_cells, p.spatial_goals, p.cost_goals, p.learning_set
         ));
-    })?;
+    };
+    let (mission, log) = match mcap {
+        None => run_mission(&sc, params, seed, progress)?,
+        Some(file) => {
+            let (m, l, written) = run_mission_recorded(&sc, params, seed, progress, file)?;
+            bar.suspend(|| println!("{} messages -> {}", written.total(), file.display()));
+            (m, l)
+        }
+    };
     bar.finish_and_clear();
     let spin = indicatif::ProgressBar::new_spinner();
     spin.enable_steady_tick(std::time::Duration::from_millis(200));
@@ -91,35 +100,14 @@ pub fn run(
     write_figures(&mission, &log, &tours, out)?;
 
     let (rep_med, rep_max) = median_max(&log.replan_ms);
+    let part = |f: fn(&strider_explore::mission::ReplanParts) -> f64| {
+        let v: Vec<f64> = log.replan_parts.iter().map(f).collect();
+        let (median, max) = median_max(&v);
+        json!({"median": median, "max": max})
+    };
     let (sp_med, sp_max) = median_max(&log.spatial_goal_ms);
     let (le_med, le_max) = median_max(&log.learning_ms);
-    let models: Vec<_> = mission
-        .models()
-        .iter()
-        .enumerate()
-        .map(|(g, m)| {
-            json!({
-                "gait": sc.robot.gaits[g].name,
-                "regressor": m.has_regressor(),
-                "learning_set": m.learning_set_len(),
-                "measured_cells": m.measured_cells().len(),
-                "classes": m.igng().len(),
-                "cost_samples": log.cost_samples[g],
-                "h_gt": mission.model_updates()[g].h_gt,
-                "class_table": mission.model_updates()[g].classes.iter().map(|c| json!({
-                    "id": c.id.0,
-                    "dominant_colour_bin": c.prototype.iter().enumerate()
-                        .max_by(|a, b| a.1.total_cmp(b.1)).map(|(k, _)| k),
-                    "cells": c.cells,
-                    "learning_cells": c.learning_cells,
-                    "cost": c.cost,
-                    "variance": c.variance,
-                    "information_gain": c.information_gain,
-                })).collect::<Vec<_>>(),
-                "samplings": log.samplings[g],
-            })
-        })
-        .collect();
+    let models = models_json(&mission, &log);
     let wall_s = wall.elapsed().as_secs_f64();
     let report = json!({
         "scenario": sc.name,
@@ -139,6 +127,12 @@ pub fn run(
         "information_gain_evaluations": {"fresh": log.gain_evaluated, "incremental": log.gain_updated},
         "replans": log.replan_ms.len(),
         "replan_latency_ms": {"median": rep_med, "max": rep_max},
+        "replan_parts_ms": {
+            "view": part(|p| p.view_ms),
+            "all_pairs": part(|p| p.all_pairs_ms),
+            "gtsp": part(|p| p.gtsp_ms),
+            "vertices": part(|p| p.vertices as f64),
+        },
         "goal_identification_ms": {
             "spatial": {"median": sp_med, "max": sp_max},
             "learning": {"median": le_med, "max": le_max},
@@ -191,10 +185,42 @@ pub fn run(
     Ok(())
 }
 
+/// Per-gait model summaries of the report: classes with dominant colour, cost and variance,
+/// sample counts, H^GT.
+pub(crate) fn models_json(mission: &Mission, log: &MissionLog) -> Vec<serde_json::Value> {
+    mission
+        .models()
+        .iter()
+        .enumerate()
+        .map(|(g, m)| {
+            json!({
+                "gait": mission.params().gaits[g].name,
+                "regressor": m.has_regressor(),
+                "learning_set": m.learning_set_len(),
+                "measured_cells": m.measured_cells().len(),
+                "classes": m.igng().len(),
+                "cost_samples": log.cost_samples[g],
+                "h_gt": mission.model_updates()[g].h_gt,
+                "class_table": mission.model_updates()[g].classes.iter().map(|c| json!({
+                    "id": c.id.0,
+                    "dominant_colour_bin": c.prototype.iter().enumerate()
+                        .max_by(|a, b| a.1.total_cmp(b.1)).map(|(k, _)| k),
+                    "cells": c.cells,
+                    "learning_cells": c.learning_cells,
+                    "cost": c.cost,
+                    "variance": c.variance,
+                    "information_gain": c.information_gain,
+                })).collect::<Vec<_>>(),
+                "samplings": log.samplings[g],
+            })
+        })
+        .collect()
+}
+
 /// The figures of `001` Fig. 7 over the map's known area: map colour, merged planning cost and
 /// selected gait (Eq. 13), per gait the learned cell costs, the classes (dilated, Alg. 10) and
 /// the planning cost, the exploration path, and the tour paths of each navigation mode.
-fn write_figures(
+pub(crate) fn write_figures(
     mission: &Mission,
     log: &MissionLog,
     tours: &[(String, Vec<TourResult>)],
@@ -335,7 +361,7 @@ fn esc(s: &str) -> String {
 
 /// `report.html`: the summary, the tour and model tables, and the figures of `001` Fig. 5/7
 /// with captions, all read from the report written beside it.
-fn report_html(
+pub(crate) fn report_html(
     r: &serde_json::Value,
     gaits: &[String],
     tours: &[(String, Vec<TourResult>)],
@@ -397,6 +423,25 @@ max {rmax:.1} ms. Spatial goal identification (passability, reachability, Eq. 11
         lmed = lat2("learning", "median"),
         lmax = lat2("learning", "max"),
     );
+    if let Some(log) = r.get("source_log").and_then(|v| v.as_str()) {
+        // A replayed log (`strider replay`): no exploration, no tours.
+        let start = h.find("<h1>").unwrap_or(h.len());
+        h.truncate(start);
+        let _ = write!(
+            h,
+            "<h1>Replay of <code>{}</code></h1><p>{:.0} s of recorded time mapped and learned in \
+             {:.1} s wall ({:.0}× real time): {} cells mapped from {} scans. Learning updates: \
+             median {:.1} ms, max {:.1} ms.</p>",
+            esc(log),
+            f("exploration_time_s"),
+            f("mission_wall_s"),
+            f("speedup"),
+            st("observed_cells"),
+            st("scans_fused"),
+            lat2("learning", "median"),
+            lat2("learning", "max"),
+        );
+    }
     // Tours: total per mode, then segments.
     h.push_str("<h2>Benchmark tours</h2><table><tr><th>tour</th>");
     for m in NavigationMode::ALL {
@@ -445,6 +490,11 @@ max {rmax:.1} ms. Spatial goal identification (passability, reachability, Eq. 11
             h.push_str("</tr>");
         }
         h.push_str("</table></details>");
+    }
+    if tours.is_empty()
+        && let Some(k) = h.find("<h2>Benchmark tours</h2>")
+    {
+        h.truncate(k);
     }
     // Models.
     h.push_str("<h2>Learned models</h2>");

@@ -95,6 +95,8 @@ pub struct MissionLog {
     pub trajectory: Vec<TrajectorySample>,
     /// Wall-clock latency of each replan (planning grid, all-pairs, GTSP, path), ms.
     pub replan_ms: Vec<f64>,
+    /// The parts of each replan, in the order of `replan_ms`.
+    pub replan_parts: Vec<ReplanParts>,
     /// Wall-clock latency of each spatial goal identification (passability, reachability,
     /// Eq. 11, Alg. 3), ms.
     pub spatial_goal_ms: Vec<f64>,
@@ -117,6 +119,21 @@ pub struct MissionLog {
     pub gain_evaluated: usize,
     /// Eq. 11 sums updated incrementally from nearby map changes over all spatial updates.
     pub gain_updated: usize,
+}
+
+/// What one replan did and where its time went (wall clock, ms).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct ReplanParts {
+    /// Robot time of the replan, s.
+    pub t: f64,
+    /// Rebuilding the planning view (0 when the map and models had not changed).
+    pub view_ms: f64,
+    /// The all-pairs site costs.
+    pub all_pairs_ms: f64,
+    /// The GTSP solve.
+    pub gtsp_ms: f64,
+    /// Vertices of the GTSP instance (robot + reachable sites).
+    pub vertices: usize,
 }
 
 /// Wall time spent in each part of the mission loop, s.
@@ -207,6 +224,11 @@ pub struct Mission {
     visited: Vec<Cell>,
     /// Eq. 11 kept between spatial updates.
     gain: GainCache,
+    /// The last tour's (goal, site) order, the warm start of the next GTSP solve.
+    last_tour: Vec<(GoalKey, Cell)>,
+    /// Ingesting a recorded log ([`Mission::ingest`]): no spatial goals, planning or gait
+    /// choice.
+    passive: bool,
 }
 
 impl Mission {
@@ -270,6 +292,7 @@ impl Mission {
                 driven_m: 0.0,
                 trajectory: Vec::new(),
                 replan_ms: Vec::new(),
+                replan_parts: Vec::new(),
                 spatial_goal_ms: Vec::new(),
                 learning_ms: Vec::new(),
                 samplings: vec![0; n],
@@ -291,6 +314,8 @@ impl Mission {
             turn_sum: 0.0,
             visited: Vec::new(),
             gain: GainCache::new(GAIN_DZ),
+            last_tour: Vec::new(),
+            passive: false,
             updates: vec![ModelUpdate::default(); n],
             looking: None,
             view: None,
@@ -361,6 +386,43 @@ impl Mission {
         robot: &mut R,
         mut progress: impl FnMut(&MissionProgress),
     ) -> Result<&MissionLog, MissionError> {
+        self.passive = false;
+        self.run_loop(robot, |_, p| progress(p))
+    }
+
+    /// [`Mission::run_observed`] with an observer that sees the whole mission (map, models,
+    /// goals, tour; see the accessors) at the same moments, e.g. to record it.
+    pub fn run_watched<R: Robot>(
+        &mut self,
+        robot: &mut R,
+        observe: impl FnMut(&Mission, &MissionProgress),
+    ) -> Result<&MissionLog, MissionError> {
+        self.passive = false;
+        self.run_loop(robot, observe)
+    }
+
+    /// Ingests a recorded log behind the robot interface: the mapping (every delivered scan),
+    /// the cost measurement (every pose) and the learning (at `learning_hz`) of
+    /// [`Mission::run`], tick by tick as in the recorded run, without spatial goals, planning
+    /// or gait choice (commands to a log are pointless; the gait in use arrives with each
+    /// pose). Runs until the time limit: set it to the log's length.
+    pub fn ingest<R: Robot>(
+        &mut self,
+        robot: &mut R,
+        observe: impl FnMut(&Mission, &MissionProgress),
+    ) -> Result<&MissionLog, MissionError> {
+        self.passive = true;
+        let r = self.run_loop(robot, observe).map(|_| ());
+        self.passive = false;
+        r.map(|()| &self.log)
+    }
+
+    /// The loop of Alg. 1 behind [`Mission::run_observed`] and [`Mission::ingest`].
+    fn run_loop<R: Robot>(
+        &mut self,
+        robot: &mut R,
+        mut observe: impl FnMut(&Mission, &MissionProgress),
+    ) -> Result<&MissionLog, MissionError> {
         let wall = Instant::now();
         let mut next_report = robot.now();
         let rates = self.params.rates;
@@ -394,7 +456,7 @@ impl Mission {
             if self.fallback.update(t, stuck) && !was {
                 self.log.stuck_events += 1;
             }
-            if t >= next_spatial {
+            if t >= next_spatial && !self.passive {
                 let w = Instant::now();
                 self.update_spatial();
                 self.log.phase_wall_s.spatial += w.elapsed().as_secs_f64();
@@ -408,7 +470,11 @@ impl Mission {
             }
             if t >= next_tour || state.idle || state.blocked {
                 let w = Instant::now();
-                let end = self.decide(robot, t, state);
+                let end = if self.passive {
+                    None
+                } else {
+                    self.decide(robot, t, state)
+                };
                 self.log.phase_wall_s.planning += w.elapsed().as_secs_f64();
                 if let Some(end) = end {
                     self.log.termination = end;
@@ -419,14 +485,18 @@ impl Mission {
             }
             if t >= next_report {
                 next_report = t + 1.0;
-                progress(&MissionProgress {
+                let p = MissionProgress {
                     time_s: t - t0,
                     time_limit_s: self.params.time_limit_s,
                     observed_cells: self.map.observed_count(),
                     spatial_goals: self.spatial.len(),
                     cost_goals: self.cost_goals.len(),
                     learning_set: self.models.iter().map(|m| m.learning_set_len()).sum(),
-                });
+                };
+                observe(self, &p);
+            }
+            if self.passive {
+                continue;
             }
             let w = Instant::now();
             let g = self.choose_gait(t);
@@ -486,7 +556,7 @@ impl Mission {
         self.learned_once = true;
         // The costs changed: refresh the view the gait choice reads.
         self.learn_generation += 1;
-        if self.params.strategy != Strategy::SpatialOnly {
+        if self.params.strategy != Strategy::SpatialOnly && !self.passive {
             self.refresh_view(CostMode::Learned);
         }
         self.log.learning_ms.push(w.elapsed().as_secs_f64() * 1e3);
@@ -599,7 +669,9 @@ impl Mission {
             CostMode::Learned
         };
         self.map.update_passability();
+        let wv = Instant::now();
         self.refresh_view(mode);
+        let view_ms = wv.elapsed().as_secs_f64() * 1e3;
         let view = self.view.take();
         let tour = view.as_ref().and_then(|v| {
             plan_tour(
@@ -608,9 +680,11 @@ impl Mission {
                 &goals,
                 self.params.strategy == Strategy::Greedy,
                 self.params.seed,
+                &self.last_tour,
             )
         });
         let mut path_found = false;
+        self.last_tour = tour.as_ref().map_or_else(Vec::new, |t| t.order.clone());
         if let (Some(v), Some(tour)) = (&view, &tour) {
             for &(key, site) in &tour.order {
                 if let Some(path) = v.path(&mut self.dij, here, site) {
@@ -623,6 +697,13 @@ impl Mission {
         }
         self.view = view;
         self.log.replan_ms.push(w.elapsed().as_secs_f64() * 1e3);
+        self.log.replan_parts.push(ReplanParts {
+            t,
+            view_ms,
+            all_pairs_ms: tour.as_ref().map_or(0.0, |t| t.all_pairs_ms),
+            gtsp_ms: tour.as_ref().map_or(0.0, |t| t.gtsp_ms),
+            vertices: tour.as_ref().map_or(0, |t| t.vertices),
+        });
         if !path_found {
             self.current = None;
             robot.follow(&[]);
@@ -721,6 +802,34 @@ impl Mission {
             .as_ref()
             .and_then(|v| v.choose_gait(here))
             .unwrap_or(self.gait)
+    }
+}
+
+/// What observers (recorders, visualisers) read of a running mission.
+impl Mission {
+    /// The current spatial goals (Alg. 3).
+    pub fn spatial_goals(&self) -> &[SpatialGoal] {
+        &self.spatial
+    }
+
+    /// The current cost-model goals with their gait index.
+    pub fn cost_goals(&self) -> &[(u8, CostGoal)] {
+        &self.cost_goals
+    }
+
+    /// The last planned tour: goals in visiting order with their chosen sites.
+    pub fn tour(&self) -> &[(GoalKey, Cell)] {
+        &self.last_tour
+    }
+
+    /// The goal being pursued and its site.
+    pub fn current_goal(&self) -> Option<(GoalKey, Cell)> {
+        self.current
+    }
+
+    /// The gait the mission commands.
+    pub fn gait(&self) -> GaitId {
+        self.gait
     }
 }
 

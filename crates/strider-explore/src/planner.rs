@@ -152,6 +152,12 @@ pub struct Tour {
     pub order: Vec<(GoalKey, Cell)>,
     /// Planning cost of the open tour from the robot.
     pub cost: f64,
+    /// Vertices of the instance (the robot and every reachable site).
+    pub vertices: usize,
+    /// Wall time of the all-pairs site costs, ms.
+    pub all_pairs_ms: f64,
+    /// Wall time of the GTSP solve (0 for the greedy choice), ms.
+    pub gtsp_ms: f64,
 }
 
 /// Farthest-point subsample of `sites` down to `k` (decision 23), deterministic: start from
@@ -182,12 +188,18 @@ pub fn farthest_point_subsample(sites: &[Cell], k: usize) -> Vec<Cell> {
 /// (decision 23), or the cheapest goal next when `greedy`. Goals none of whose sites is
 /// reachable are left out. Deterministic for a seed (iteration limits, no wall-clock limit
 /// decides the result unless the instance is huge).
+///
+/// `previous` is the last tour's order: its (goal, site) pairs still in the instance warm-start
+/// the solver in that order (goals that are gone are dropped, new ones inserted at their
+/// cheapest places), so a replan refines the standing plan instead of starting over, and the
+/// robot does not switch between near-equal tours from one replan to the next.
 pub fn plan_tour(
     view: &PlanningView,
     robot: Cell,
     goals: &[TourGoal],
     greedy: bool,
     seed: u64,
+    previous: &[(GoalKey, Cell)],
 ) -> Option<Tour> {
     // Vertex 0 = robot; then every (goal, site).
     let mut sites = vec![robot];
@@ -198,7 +210,9 @@ pub fn plan_tour(
             owner.push(g);
         }
     }
+    let w = std::time::Instant::now();
     let costs = all_pairs(&view.grid, &sites);
+    let all_pairs_ms = w.elapsed().as_secs_f64() * 1e3;
     // Keep the sites reachable from the robot.
     let reachable: Vec<usize> = (0..sites.len())
         .filter(|&v| v == 0 || costs.get(0, v).is_finite())
@@ -237,6 +251,9 @@ pub fn plan_tour(
         return Some(Tour {
             order: vec![(goals[set_goal[s]].key, sites[reachable[v]])],
             cost: c,
+            vertices: n,
+            all_pairs_ms,
+            gtsp_ms: 0.0,
         });
     }
     // Integer costs in millimetre-cost units; unreachable pairs get a large finite penalty.
@@ -261,17 +278,30 @@ pub fn plan_tour(
     let mut all_sets = vec![vec![0]];
     all_sets.extend(sets.iter().cloned());
     let inst = Instance::new("exploration", all_sets, dist).ok()?;
+    let mut warm = vec![0];
+    for &(key, cell) in previous {
+        let found = (1..n).find(|&v| {
+            let o = reachable[v];
+            sites[o] == cell && goals[owner[o]].key == key
+        });
+        if let Some(v) = found {
+            warm.push(v);
+        }
+    }
     let params = SolverParams {
         mode: Mode::Fast,
         time_limit_s: 5.0,
         seed,
         open: Some(0),
+        warm_start: (warm.len() > 1).then_some(warm),
         max_trials: Some(2),
         max_iterations: Some(2000),
         stall_iterations: Some(300),
         ..SolverParams::default()
     };
+    let w = std::time::Instant::now();
     let sol = gtsp::solve(&inst, &params).ok()?;
+    let gtsp_ms = w.elapsed().as_secs_f64() * 1e3;
     let mut order = Vec::new();
     for &v in sol.tour.iter().skip_while(|&&v| v != 0).skip(1) {
         let g = owner[reachable[v]];
@@ -280,6 +310,9 @@ pub fn plan_tour(
     Some(Tour {
         order,
         cost: sol.cost as f64 / 1000.0,
+        vertices: n,
+        all_pairs_ms,
+        gtsp_ms,
     })
 }
 

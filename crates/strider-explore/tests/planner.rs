@@ -65,7 +65,7 @@ fn the_tour_visits_one_site_per_reachable_goal_and_skips_unreachable_ones() {
         },
     ];
     for greedy in [false, true] {
-        let tour = plan_tour(&view, Cell::new(5, 5), &goals, greedy, 1).unwrap();
+        let tour = plan_tour(&view, Cell::new(5, 5), &goals, greedy, 1, &[]).unwrap();
         if greedy {
             assert_eq!(tour.order.len(), 1);
             continue;
@@ -76,6 +76,38 @@ fn the_tour_visits_one_site_per_reachable_goal_and_skips_unreachable_ones() {
         // The cost goal is on the way through the gap: visited first, from its nearer site.
         assert_eq!(tour.order[0], (goals[1].key, Cell::new(10, 25)));
     }
+}
+
+#[test]
+fn a_warm_started_replan_keeps_the_standing_tour_and_drops_what_is_gone() {
+    let m = map();
+    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0, None).unwrap();
+    let goals: Vec<TourGoal> = [(35, 5), (10, 25), (30, 25), (5, 15)]
+        .iter()
+        .map(|&(i, j)| TourGoal {
+            key: GoalKey::Spatial(Cell::new(i, j)),
+            sites: vec![Cell::new(i, j)],
+        })
+        .collect();
+    let cold = plan_tour(&view, Cell::new(5, 5), &goals, false, 1, &[]).unwrap();
+    assert_eq!(cold.order.len(), 4);
+    // Re-solving from its own tour finds the same order and cost.
+    let warm = plan_tour(&view, Cell::new(5, 5), &goals, false, 1, &cold.order).unwrap();
+    assert_eq!(warm.order, cold.order);
+    assert_eq!(warm.cost, cold.cost);
+    // A previous tour naming goals that are gone, sites that moved and a goal not yet known:
+    // the stale entries are dropped, the new goal inserted, every goal visited once.
+    let mut previous = vec![(GoalKey::Spatial(Cell::new(1, 1)), Cell::new(1, 1))];
+    previous.extend(cold.order.iter().skip(1).copied());
+    previous.push((goals[1].key, Cell::new(11, 25)));
+    let fewer = &goals[1..];
+    let t = plan_tour(&view, Cell::new(5, 5), fewer, false, 1, &previous).unwrap();
+    let mut keys: Vec<GoalKey> = t.order.iter().map(|o| o.0).collect();
+    keys.sort();
+    let mut want: Vec<GoalKey> = fewer.iter().map(|g| g.key).collect();
+    want.sort();
+    assert_eq!(keys, want);
+    assert!(t.cost.is_finite() && t.vertices == 4);
 }
 
 proptest! {

@@ -143,6 +143,11 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
 
 /// Eq. 12: ĉ(ν) ← max over the disc δ(r_robot, ν) (cells whose centres lie within r_robot of
 /// ν's centre, [`disc_offsets`]) of ĉ(ν'); cells outside the grid are ignored.
+///
+/// The disc is a stack of centred row spans: row dj covers di ∈ [−a(dj), a(dj)]. So the grid is
+/// first reduced along rows, H_a(i) = max(H_{a−1}(i), ĉ(i − a), ĉ(i + a)) for every half-width a
+/// up to the radius, and each cell then takes the maximum of H_{a(dj)} over the 2R + 1 rows of
+/// its disc: O(R) per cell instead of O(R²).
 pub fn footprint_max(grid: &CostGrid, r_robot: f64) -> Result<CostGrid, GridError> {
     if !(r_robot.is_finite() && r_robot >= 0.0) {
         return Err(GridError::BadParameter {
@@ -151,20 +156,59 @@ pub fn footprint_max(grid: &CostGrid, r_robot: f64) -> Result<CostGrid, GridErro
         });
     }
     let offsets = disc_offsets(r_robot, grid.cell_size());
+    // Half-width per row offset dj ∈ [−R, R].
+    let radius = offsets
+        .iter()
+        .map(|&(_, dj)| dj.unsigned_abs())
+        .max()
+        .unwrap_or(0) as i64;
+    let mut half = vec![0usize; 2 * radius as usize + 1];
+    for &(di, dj) in &offsets {
+        let k = (dj as i64 + radius) as usize;
+        half[k] = half[k].max(di.unsigned_abs() as usize);
+    }
+    debug_assert_eq!(
+        half.iter().map(|&a| 2 * a + 1).sum::<usize>(),
+        offsets.len(),
+        "disc rows are centred spans"
+    );
     let rect = grid.rect();
     let cost = grid.costs();
-    let (w, h) = (rect.width as i64, rect.height as i64);
-    let mut out = vec![0.0f32; cost.len()];
-    for (k, o) in out.iter_mut().enumerate() {
-        let (i, j) = ((k as i64) % w, (k as i64) / w);
-        let mut m = f32::NEG_INFINITY;
-        for &(di, dj) in &offsets {
-            let (x, y) = (i + di as i64, j + dj as i64);
-            if x >= 0 && y >= 0 && x < w && y < h {
-                m = m.max(cost[(y * w + x) as usize]);
+    let (w, h) = (rect.width as usize, rect.height as usize);
+    let widest = half.iter().copied().max().unwrap_or(0);
+    // rows[a] = H_a, row-major like the grid.
+    let mut rows: Vec<Vec<f32>> = Vec::with_capacity(widest + 1);
+    rows.push(cost.to_vec());
+    for a in 1..=widest {
+        let prev = &rows[a - 1];
+        let mut next = prev.clone();
+        for j in 0..h {
+            let row = &cost[j * w..(j + 1) * w];
+            let out = &mut next[j * w..(j + 1) * w];
+            for (i, o) in out.iter_mut().enumerate() {
+                if i >= a {
+                    *o = o.max(row[i - a]);
+                }
+                if i + a < w {
+                    *o = o.max(row[i + a]);
+                }
             }
         }
-        *o = m;
+        rows.push(next);
+    }
+    let mut out = vec![f32::NEG_INFINITY; cost.len()];
+    for j in 0..h {
+        let o = &mut out[j * w..(j + 1) * w];
+        for (k, &a) in half.iter().enumerate() {
+            let y = j as i64 + k as i64 - radius;
+            if y < 0 || y >= h as i64 {
+                continue;
+            }
+            let src = &rows[a][y as usize * w..(y as usize + 1) * w];
+            for (v, &s) in o.iter_mut().zip(src) {
+                *v = v.max(s);
+            }
+        }
     }
     CostGrid::new(rect, grid.cell_size(), out)
 }
