@@ -12,7 +12,7 @@
 
 use crate::mission::{MissionError, TrajectorySample};
 use crate::params::MissionParams;
-use crate::planner::{CostMode, PlanningView, nearest_where, waypoints};
+use crate::planner::{CostMode, PlanningView, nearest_where};
 use serde::Serialize;
 use strider_core::grid::CellRay;
 use strider_core::interface::{Robot, SensorSink};
@@ -199,7 +199,7 @@ pub fn run_tour<R: Robot>(
             let src = nearest_where(map.cell_at(from.x, from.y)?, &near, centre_ok)?;
             let dst = nearest_where(map.cell_at(b.x, b.y)?, &near, centre_ok)?;
             let cells = view.path(&mut Dijkstra::new(), src, dst)?;
-            let mut pts = waypoints(&cells, d);
+            let mut pts = view.drive_waypoints(&cells);
             pts.push(b);
             Some(pts)
         };

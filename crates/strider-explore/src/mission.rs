@@ -24,7 +24,6 @@
 use crate::params::{MissionParams, Strategy};
 use crate::planner::{
     CostMode, GoalKey, PlanningView, TourGoal, farthest_point_subsample, nearest_where, plan_tour,
-    waypoints,
 };
 use std::time::Instant;
 use strider_core::interface::{MotionState, Robot, SensorSink};
@@ -688,7 +687,7 @@ impl Mission {
         if let (Some(v), Some(tour)) = (&view, &tour) {
             for &(key, site) in &tour.order {
                 if let Some(path) = v.path(&mut self.dij, here, site) {
-                    robot.follow(&waypoints(&path, self.map.cell_size()));
+                    robot.follow(&v.drive_waypoints(&path));
                     self.current = Some((key, site));
                     path_found = true;
                     break;

@@ -7,7 +7,7 @@ use strider_learn::cost_model::GaitCostModel;
 use strider_map::ElevationMap;
 use strider_map::passability::Passability;
 use strider_map::rect::WorldRect;
-use strider_plan::grid::{CostGrid, Dijkstra, all_pairs, transform};
+use strider_plan::grid::{CostGrid, Dijkstra, all_pairs, smooth_path, transform};
 use strider_plan::gtsp::{self, Mode, SolverParams};
 use strider_plan::tsplib::{CostMatrix, Instance};
 
@@ -108,6 +108,13 @@ impl PlanningView {
     pub fn choose_gait(&self, cell: Cell) -> Option<GaitId> {
         transform::choose_gait_with(&self.per_gait, cell, &self.footprint)
             .map(|(g, _)| GaitId(g as u8))
+    }
+
+    /// The waypoints a robot drives along `path` (a path of this view): the cell centres of its
+    /// line-of-sight smoothing on the planning grid ([`smooth_path`]), so straight stretches are
+    /// driven straight instead of as 45° zig-zags.
+    pub fn drive_waypoints(&self, path: &[Cell]) -> Vec<Point2> {
+        waypoints(&smooth_path(&self.grid, path), self.grid.cell_size())
     }
 
     /// The cheapest path from `from` to `to` on the planning grid, as cell centres; `None` if

@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use strider_core::{Cell, CellRect};
 use strider_plan::grid::{
     CostGrid, Dijkstra, all_pairs, best_gait, choose_gait, distance_transform, footprint_max,
-    path_cost, planning_grid,
+    path_cost, planning_grid, segment_cost, smooth_path,
 };
 
 /// f64 with a total order, as the oracle's cost type.
@@ -141,6 +141,49 @@ fn brute_footprint(g: &CostGrid, r_robot: f64, a: Cell) -> f32 {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Smoothing keeps the ends, keeps a subsequence of the cheapest path, only draws segments
+    /// through admissible cells (checked by sampling the segment densely, independently of the
+    /// traversal), and each shortcut costs no more than the grid sub-path it replaces.
+    #[test]
+    fn smoothed_paths_are_admissible_and_no_dearer(g in grid_strategy(16), a in any::<u32>(), b in any::<u32>()) {
+        let rect = g.rect();
+        let free: Vec<Cell> = rect.cells().filter(|&c| g.is_admissible(c)).collect();
+        prop_assume!(free.len() >= 2);
+        let (s, t) = (free[a as usize % free.len()], free[b as usize % free.len()]);
+        let mut dj = Dijkstra::new();
+        dj.run(&g, s).unwrap();
+        let Some(path) = dj.path_to(t) else { return Ok(()); };
+        let sm = smooth_path(&g, &path);
+        prop_assert_eq!(sm.first(), path.first());
+        prop_assert_eq!(sm.last(), path.last());
+        let mut idx = Vec::new();
+        let mut k = 0;
+        for v in &sm {
+            let at = path[k..].iter().position(|c| c == v);
+            prop_assert!(at.is_some(), "not a subsequence");
+            k += at.unwrap();
+            idx.push(k);
+        }
+        let d = g.cell_size();
+        let mut scratch = Vec::new();
+        for (w, ix) in sm.windows(2).zip(idx.windows(2)) {
+            if ix[1] - ix[0] < 2 {
+                continue; // a step of the grid path, kept as it is
+            }
+            let c = segment_cost(&g, w[0], w[1], &mut scratch);
+            prop_assert!(c.is_some());
+            let replaced = path_cost(&g, &path[ix[0]..=ix[1]]).unwrap();
+            prop_assert!(c.unwrap() <= replaced * (1.0 + 1e-6), "{:?} > {}", c, replaced);
+            let (pa, pb) = (w[0].center(d), w[1].center(d));
+            for q in 0..=400 {
+                let f = q as f64 / 400.0;
+                let (x, y) = (pa.x + f * (pb.x - pa.x), pa.y + f * (pb.y - pa.y));
+                let cell = Cell::containing(x, y, d).unwrap();
+                prop_assert!(g.is_admissible(cell), "segment {:?}-{:?} enters {:?}", w[0], w[1], cell);
+            }
+        }
+    }
 
     #[test]
     fn dijkstra_matches_pathfinding_and_paths_are_valid(g in grid_strategy(9), pick in any::<u64>()) {

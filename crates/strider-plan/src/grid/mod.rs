@@ -5,6 +5,7 @@
 //! * [`dijkstra`] — reusable 8-connected Dijkstra / A* ([`Dijkstra`]), source-cell edge costs;
 //! * [`all_pairs`](mod@all_pairs) — parallel cost matrix between sites ([`SiteCosts`]);
 //! * [`transform`] — best-gait grid, c_loss distance transform, footprint max, gait choice;
+//! * [`smooth`] — any-angle line-of-sight smoothing of a cell path for driving;
 //! * [`lcb`] — the softplus/ReLU lower-confidence-bound cost and path of `004` Eq. 7–8
 //!   (decision 26), on the same search.
 
@@ -12,11 +13,13 @@ pub mod all_pairs;
 pub mod cost_grid;
 pub mod dijkstra;
 pub mod lcb;
+pub mod smooth;
 pub mod transform;
 
 pub use all_pairs::{SiteCosts, all_pairs};
 pub use cost_grid::{CostGrid, GridError};
 pub use dijkstra::{Dijkstra, NO_PRED, SearchError, path_cost};
+pub use smooth::{segment_cost, smooth_path};
 pub use transform::{
     BestGait, best_gait, choose_gait, choose_gait_with, distance_transform, footprint_max,
     planning_grid,
