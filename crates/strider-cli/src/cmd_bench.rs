@@ -30,7 +30,7 @@ use strider_explore::evaluate::NavigationMode;
 use strider_explore::stats::{MannWhitney, Summary, mann_whitney_u, paired_win_fraction};
 
 use crate::cmd_scenario::load;
-use strider_cli::trial::{mission_params, run_mission, run_tours};
+use strider_cli::trial::{mission_params, run_mission, run_mission_recorded, run_tours};
 
 /// Options of `strider bench table5`.
 pub struct Table5Options {
@@ -44,6 +44,8 @@ pub struct Table5Options {
     pub jobs: usize,
     /// Mission time limit override, simulated seconds.
     pub time_limit: Option<f64>,
+    /// Record every trial's mission to `DIR/<scenario>-<strategy>-w<world>-s<seed>.mcap`.
+    pub mcap_dir: Option<std::path::PathBuf>,
 }
 
 /// One experiment to run: a world, a strategy, a seed, and which tour modes to drive after.
@@ -85,14 +87,27 @@ impl TrialResult {
     }
 }
 
-fn run_task(task: &Task, time_limit: Option<f64>) -> Result<TrialResult> {
+fn run_task(task: &Task, time_limit: Option<f64>, mcap_dir: Option<&Path>) -> Result<TrialResult> {
     let wall = Instant::now();
     let sc = load(task.scenario, task.world_seed)?;
     let mut params = mission_params(&sc, task.strategy, task.seed)?;
     if let Some(t) = time_limit {
         params.time_limit_s = t;
     }
-    let (mission, log) = run_mission(&sc, params, task.seed, |_| {})?;
+    let (mission, log) = match mcap_dir {
+        None => run_mission(&sc, params, task.seed, |_| {})?,
+        Some(dir) => {
+            let file = dir.join(format!(
+                "{}-{}-w{}-s{}.mcap",
+                task.scenario,
+                task.strategy.name(),
+                task.world_seed,
+                task.seed
+            ));
+            let (m, l, _) = run_mission_recorded(&sc, params, task.seed, |_| {}, &file)?;
+            (m, l)
+        }
+    };
     let tours = if task.modes.is_empty() {
         Vec::new()
     } else {
@@ -175,6 +190,10 @@ pub fn table5(o: &Table5Options, out: &Path) -> Result<()> {
     }
     fs::create_dir_all(out)
         .with_context(|| format!("{}: cannot create directory", out.display()))?;
+    if let Some(dir) = &o.mcap_dir {
+        fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
+    }
     let wall = Instant::now();
     let mut tasks = Vec::new();
     let world = |i: usize| 1 + (i as u64 % o.world_seeds);
@@ -223,7 +242,7 @@ pub fn table5(o: &Table5Options, out: &Path) -> Result<()> {
             .par_iter()
             .with_max_len(1)
             .map(|t| {
-                let r = run_task(t, o.time_limit).with_context(|| {
+                let r = run_task(t, o.time_limit, o.mcap_dir.as_deref()).with_context(|| {
                     format!(
                         "trial {} {} world seed {} seed {}",
                         t.scenario,

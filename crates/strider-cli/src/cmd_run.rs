@@ -14,7 +14,7 @@ use strider_explore::{Mission, MissionLog, Strategy};
 
 use crate::cmd_scenario::load;
 use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
-use strider_cli::trial::{mission_params, run_mission, run_tours};
+use strider_cli::trial::{mission_params, run_mission, run_mission_recorded, run_tours};
 use strider_core::color::COLOR_PROTOTYPES;
 
 pub(crate) fn median_max(v: &[f64]) -> (f64, f64) {
@@ -34,6 +34,7 @@ pub fn run(
     seed: u64,
     time_limit: Option<f64>,
     out: &Path,
+    mcap: Option<&Path>,
 ) -> Result<()> {
     let wall = Instant::now();
     let Some(strategy) = Strategy::parse(strategy) else {
@@ -65,7 +66,14 @@ pub fn run(
             p.observed_cells, p.spatial_goals, p.cost_goals, p.learning_set
         ));
     };
-    let (mission, log) = run_mission(&sc, params, seed, progress)?;
+    let (mission, log) = match mcap {
+        None => run_mission(&sc, params, seed, progress)?,
+        Some(file) => {
+            let (m, l, written) = run_mission_recorded(&sc, params, seed, progress, file)?;
+            bar.suspend(|| println!("{} messages -> {}", written.total(), file.display()));
+            (m, l)
+        }
+    };
     bar.finish_and_clear();
     let spin = indicatif::ProgressBar::new_spinner();
     spin.enable_steady_tick(std::time::Duration::from_millis(200));

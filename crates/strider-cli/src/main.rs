@@ -7,8 +7,10 @@
 mod cmd_bench;
 mod cmd_gp;
 mod cmd_gtsp;
+mod cmd_learn;
 mod cmd_map;
 mod cmd_navigate;
+mod cmd_replay;
 mod cmd_run;
 mod cmd_scenario;
 mod cmd_tours;
@@ -51,6 +53,26 @@ enum Command {
         /// Output directory (created if missing).
         #[arg(long, short = 'o', default_value = "out/run")]
         out: PathBuf,
+        /// Also record the mission to this MCAP file: the sensor stream as ROS 2 messages
+        /// (replayable with `strider replay`) and the map, costs, goals, tour and path with
+        /// Foxglove's schemas (open it in Foxglove).
+        #[arg(long, value_name = "FILE")]
+        mcap: Option<PathBuf>,
+    },
+    /// Map and learn from a recorded ROS 2 log (MCAP: sensor_msgs/PointCloud2 with x, y, z and
+    /// rgb, nav_msgs/Odometry or tf2_msgs/TFMessage poses, the gait) with the mission's own
+    /// mapping and learning code; writes the report of `strider run` without the tours.
+    Replay {
+        /// The MCAP file.
+        log: PathBuf,
+        /// Replay configuration (TOML): topics, frames, gait source and the robot's
+        /// parameters; see `strider_log::config`. For a log of `strider run --mcap` a
+        /// `[mission]` table naming the scenario suffices.
+        #[arg(long)]
+        config: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(long, short = 'o', default_value = "out/replay")]
+        out: PathBuf,
     },
     /// Built-in and file scenarios: list, render to PNG, export as editable files.
     #[command(subcommand)]
@@ -73,6 +95,19 @@ enum Command {
     /// Mission-level benchmarks that reproduce the papers' tables.
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Traversal-cost learners (GP, RBCM, IGMN, regression tree) and their benchmarks.
+    #[command(subcommand)]
+    Learn(LearnCommand),
+}
+
+#[derive(Subcommand, Debug)]
+enum LearnCommand {
+    /// Learner benchmarks: `000` §V-A (incremental stream on lab-track: learning and inference
+    /// time per step, RMSE and predictive std over n, for RBCM with four kernels, the full GP,
+    /// IGMN and a regression tree; DIR/learn_bench.json and .png) and thesis C1 Table I (cost of
+    /// transport learned on one pass of cot-track and predicted from an aerial view, per learner ×
+    /// descriptor; DIR/c1_table.md and .json).
+    Bench(cmd_learn::LearnBenchArgs),
 }
 
 #[derive(Subcommand, Debug)]
@@ -96,6 +131,9 @@ enum BenchCommand {
         /// Override the scenarios' mission time limit, simulated seconds (for quick runs).
         #[arg(long)]
         time_limit: Option<f64>,
+        /// Also record each trial's mission as MCAP (`strider run --mcap`) into this directory.
+        #[arg(long)]
+        mcap_dir: Option<PathBuf>,
         /// Output directory (created if missing).
         #[arg(long, short = 'o', default_value = "out/table5")]
         out: PathBuf,
@@ -258,6 +296,7 @@ fn main() -> ExitCode {
             seed,
             time_limit,
             out,
+            mcap,
         } => cmd_run::run(
             &scenario.scenario,
             scenario.world_seed,
@@ -265,15 +304,19 @@ fn main() -> ExitCode {
             seed,
             time_limit,
             &out,
+            mcap.as_deref(),
         ),
+        Command::Replay { log, config, out } => cmd_replay::run(&log, &config, &out),
         Command::Tours(args) => cmd_tours::run(&args),
         Command::Navigate(args) => cmd_navigate::run(&args),
+        Command::Learn(LearnCommand::Bench(args)) => cmd_learn::bench(&args),
         Command::Bench(BenchCommand::Table5 {
             trials,
             large_trials,
             world_seeds,
             jobs,
             time_limit,
+            mcap_dir,
             out,
         }) => cmd_bench::table5(
             &cmd_bench::Table5Options {
@@ -283,6 +326,7 @@ fn main() -> ExitCode {
                 jobs: jobs
                     .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
                 time_limit,
+                mcap_dir,
             },
             &out,
         ),

@@ -209,26 +209,85 @@ pub fn glyph(ch: char) -> [u8; 5] {
         'U' => [5, 5, 5, 5, 7],
         'R' => [6, 5, 6, 5, 5],
         'N' => [5, 7, 7, 5, 5],
+        'A' => [2, 5, 7, 5, 5],
+        'B' => [6, 5, 6, 5, 6],
+        'C' => [7, 4, 4, 4, 7],
+        'D' => [6, 5, 5, 5, 6],
+        'E' => [7, 4, 6, 4, 7],
+        'F' => [7, 4, 6, 4, 4],
+        'G' => [7, 4, 5, 5, 7],
+        'H' => [5, 5, 7, 5, 5],
+        'I' => [7, 2, 2, 2, 7],
+        'K' => [5, 5, 6, 5, 5],
+        'L' => [4, 4, 4, 4, 7],
+        'M' => [5, 7, 5, 5, 5],
+        'P' => [7, 5, 7, 4, 4],
+        'Q' => [7, 5, 5, 7, 1],
+        'S' => [7, 4, 7, 1, 7],
+        'V' => [5, 5, 5, 5, 2],
+        'W' => [5, 5, 5, 7, 5],
+        'X' => [5, 5, 2, 5, 5],
+        'Y' => [5, 5, 2, 2, 2],
+        'Z' => [7, 1, 2, 4, 7],
+        '-' => [0, 0, 7, 0, 0],
+        '.' => [0, 0, 0, 0, 2],
+        '/' => [1, 1, 2, 4, 4],
+        '(' => [1, 2, 2, 2, 1],
+        ')' => [4, 2, 2, 2, 4],
         _ => [0; 5],
     }
 }
 
 /// Draws `text` with its lower-left corner at pixel (x, y) (y up), 2 pixels per glyph pixel.
 fn text(c: &mut Canvas, x: f64, y: f64, text: &str) {
+    label(c, x, y, text, BLACK);
+}
+
+/// Draws `text` (upper case letters, digits, `- . / ( )`; see [`glyph`]) in colour `col` with its
+/// lower-left corner at pixel (x, y) (y up), 2 pixels per glyph pixel.
+pub fn label(c: &mut Canvas, x: f64, y: f64, text: &str, col: [u8; 3]) {
     for (i, ch) in text.chars().enumerate() {
-        let g = glyph(ch);
+        let g = glyph(ch.to_ascii_uppercase());
         for (row, bits) in g.iter().enumerate() {
-            for col in 0..3 {
-                if bits & (4 >> col) != 0 {
+            for bit in 0..3 {
+                if bits & (4 >> bit) != 0 {
                     for (dx, dy) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
-                        let px = x + (i * 8 + col * 2) as f64 + dx + 0.5;
+                        let px = x + (i * 8 + bit * 2) as f64 + dx + 0.5;
                         let py = y + ((4 - row) * 2) as f64 + dy + 0.5;
-                        c.marker(Point2::new(px, py), BLACK, 0);
+                        c.marker(Point2::new(px, py), col, 0);
                     }
                 }
             }
         }
     }
+}
+
+/// Pastes `panels` (of any sizes) into one white canvas, row by row, `cols` per row; each row is
+/// as tall as its tallest panel and each column as wide as its widest.
+pub fn compose(panels: &[Canvas], cols: usize) -> Canvas {
+    let cols = cols.max(1);
+    let rows = panels.len().div_ceil(cols).max(1);
+    let mut widths = vec![0u32; cols];
+    let mut heights = vec![0u32; rows];
+    for (k, p) in panels.iter().enumerate() {
+        widths[k % cols] = widths[k % cols].max(p.img.width());
+        heights[k / cols] = heights[k / cols].max(p.img.height());
+    }
+    let rect = CellRect::new(
+        Cell::new(0, 0),
+        widths.iter().sum::<u32>().max(1),
+        heights.iter().sum::<u32>().max(1),
+    );
+    let mut out = Canvas::new(rect, 1.0, 1);
+    out.fill(|_| Some(WHITE));
+    for (k, p) in panels.iter().enumerate() {
+        let ox: u32 = widths[..k % cols].iter().sum();
+        let oy: u32 = heights[..k / cols].iter().sum();
+        for (x, y, px) in p.img.enumerate_pixels() {
+            out.img.put_pixel(ox + x, oy + y, *px);
+        }
+    }
+    out
 }
 
 /// A round step of about a fifth of `span`.
@@ -286,11 +345,9 @@ pub fn line_chart(
             col,
             1,
         );
-        let label = if step >= 1.0 {
-            format!("{v:.0}")
-        } else {
-            format!("{v:.1}")
-        };
+        // As many decimals as the step needs (0.1 → 1, 0.002 → 3).
+        let decimals = (-step.log10().floor()).max(0.0) as usize;
+        let label = format!("{v:.decimals$}");
         text(
             &mut c,
             L - 8.0 - 8.0 * label.len() as f64,
@@ -298,7 +355,14 @@ pub fn line_chart(
             &label,
         );
     }
-    let xstep = if n <= 10 { 1 } else { 5 };
+    // Tick every point up to 10, every 5 up to 50, then a round step for about ten labels.
+    let xstep = if n <= 10 {
+        1
+    } else if n <= 50 {
+        5
+    } else {
+        nice_step(n as f64 / 2.0) as usize
+    };
     for k in 1..=n {
         if k == 1 || k.is_multiple_of(xstep) {
             let x = px(k as f64);
@@ -344,8 +408,11 @@ pub fn line_chart(
             .map(|(k, &v)| Point2::new(px(k as f64 + 1.0), py(v)))
             .collect();
         c.polyline(&pts, *col, 2);
-        for p in &pts {
-            c.marker(*p, *col, 3);
+        // Markers only where they stay apart (long series are lines).
+        if pts.len() <= 50 {
+            for p in &pts {
+                c.marker(*p, *col, 3);
+            }
         }
     }
     c

@@ -7,6 +7,8 @@
 //! mission itself never sees the scenario's world.
 
 use anyhow::{Result, bail};
+use std::cell::RefCell;
+use std::rc::Rc;
 use strider_core::Pose2;
 use strider_explore::evaluate::{NavigationMode, TourResult, run_tour};
 use strider_explore::{
@@ -14,13 +16,16 @@ use strider_explore::{
 };
 use strider_learn::cost_model::CostModelParams;
 use strider_learn::gp::{GpParams, Kernel, KernelKind};
+use strider_log::recorder::{Recorder, RecorderOptions, Recording};
+use strider_log::writer::WriteSummary;
+use strider_map::params::MapParams;
 use strider_map::rect::WorldRect;
 use strider_scenario::{Scenario, SensorKind};
 use strider_sim::Simulator;
 
-/// A number from the scenario's `[strategy]` table, or `default`.
-fn num(sc: &Scenario, key: &str, default: f64) -> f64 {
-    let v = sc.strategy.get(key);
+/// A number from a `[strategy]` table, or `default`.
+fn num(table: &toml::Table, key: &str, default: f64) -> f64 {
+    let v = table.get(key);
     v.and_then(|v| v.as_float())
         .or_else(|| v.and_then(|v| v.as_integer()).map(|i| i as f64))
         .unwrap_or(default)
@@ -45,6 +50,42 @@ pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<Mi
             sc.robot.name
         );
     }
+    let b = &sc.bounds;
+    let hfov = sc
+        .robot
+        .sensors
+        .iter()
+        .map(|s| match s.kind {
+            SensorKind::RgbD { hfov_deg, .. } => hfov_deg,
+            SensorKind::Omni { .. } => 360.0,
+        })
+        .collect();
+    let mut p = robot_mission_params(
+        sc.map.clone(),
+        gaits,
+        hfov,
+        &sc.strategy,
+        Some(WorldRect::new(b.min, b.max)),
+        strategy,
+        seed,
+    );
+    p.time_limit_s = sc.time_limit_s;
+    Ok(p)
+}
+
+/// Mission parameters from a robot's description without a scenario (a real robot's log):
+/// map parameters, gaits, sensor fields of view, the `001` Tbl. 3 values by the names of a
+/// scenario's `[strategy]` table, bounds. The time limit is one hour.
+pub fn robot_mission_params(
+    map: MapParams,
+    gaits: Vec<GaitSpec>,
+    sensor_hfov_deg: Vec<f64>,
+    table: &toml::Table,
+    bounds: Option<WorldRect>,
+    strategy: Strategy,
+    seed: u64,
+) -> MissionParams {
+    let sc = table;
     let l = num(sc, "lengthscale", 0.4);
     let sigma_eps = num(sc, "sigma_eps", 0.5);
     let sigma_s = num(sc, "sigma_s", 1.0);
@@ -73,9 +114,8 @@ pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<Mi
     cm.igng.age_mature = num(sc, "igng_age_mature", cm.igng.age_mature as f64) as u32;
     cm.igng.age_max = num(sc, "igng_age_max", cm.igng.age_max as f64) as u32;
     cm.igng.batch = num(sc, "igng_batch", cm.igng.batch as f64) as usize;
-    let b = &sc.bounds;
-    Ok(MissionParams {
-        map: sc.map.clone(),
+    MissionParams {
+        map,
         gaits,
         cost_model: cm,
         window_s: num(sc, "delta_t", 5.0),
@@ -83,22 +123,14 @@ pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<Mi
         c_loss: num(sc, "c_loss", 10.0),
         dt_sample: num(sc, "dt_sample", 30.0),
         dt_fallback: num(sc, "dt_fallback", 30.0),
-        bounds: Some(WorldRect::new(b.min, b.max)),
-        time_limit_s: sc.time_limit_s,
+        bounds,
+        time_limit_s: 3600.0,
         strategy,
         rates: Rates::default(),
         max_sites_per_goal: 16,
-        sensor_hfov_deg: sc
-            .robot
-            .sensors
-            .iter()
-            .map(|s| match s.kind {
-                SensorKind::RgbD { hfov_deg, .. } => hfov_deg,
-                SensorKind::Omni { .. } => 360.0,
-            })
-            .collect(),
+        sensor_hfov_deg,
         seed,
-    })
+    }
 }
 
 /// Runs an exploration mission with `params` on the scenario's world (simulator seeded with
@@ -113,6 +145,38 @@ pub fn run_mission(
     let mut mission = Mission::new(params)?;
     let log = mission.run_observed(&mut sim, progress)?.clone();
     Ok((mission, log))
+}
+
+/// [`run_mission`] recording the mission to the MCAP file `mcap` (ROS 2 sensor stream and
+/// Foxglove visualisation, see `strider_log::recorder`); returns what was written too.
+pub fn run_mission_recorded(
+    sc: &Scenario,
+    params: MissionParams,
+    seed: u64,
+    mut progress: impl FnMut(&MissionProgress),
+    mcap: &std::path::Path,
+) -> Result<(Mission, MissionLog, WriteSummary)> {
+    let sim = Simulator::new(sc, seed)?;
+    let names = params.gaits.iter().map(|g| g.name.clone()).collect();
+    let rec = Rc::new(RefCell::new(Recorder::create(
+        mcap,
+        RecorderOptions::new(names),
+    )?));
+    let mut robot = Recording::new(sim, rec.clone());
+    let mut mission = Mission::new(params)?;
+    let log = mission
+        .run_watched(&mut robot, |m, p| {
+            progress(p);
+            rec.borrow_mut().snapshot(m, false);
+        })?
+        .clone();
+    rec.borrow_mut().snapshot(&mission, true);
+    drop(robot);
+    let rec = Rc::try_unwrap(rec)
+        .map_err(|_| anyhow::anyhow!("the recorder is still shared"))?
+        .into_inner();
+    let written = rec.finish()?;
+    Ok((mission, log, written))
 }
 
 /// The benchmark tours of the scenario on the mission's frozen map and models, once per

@@ -4,6 +4,8 @@
 //! experienced this cost on this terrain" and "these are the planning costs per gait, and these
 //! are the goals where the models can still learn". One module per concept:
 //!
+//! * [`bench`]: the learner benchmark harness of `000` §V-A and thesis C1 (one interface over
+//!   GP, RBCM, IGMN and tree; the incremental-stream and the aerial-view protocols).
 //! * [`cost_model`]: the per-gait traversal cost model C^g (`001` Alg. 5–10, Eq. 12–18, 22–26).
 //! * [`descriptor_field`]: terrain descriptors (ta(ν) of `001` §4.2 or the 5-D descriptor of
 //!   `000` Eq. 10) flattened for the learners, non-finite values refused.
@@ -15,16 +17,21 @@
 //! * [`rbcm`]: the robust Bayesian committee machine of GP experts (`000` Eq. 7–9, decision 15).
 //! * [`igng`]: incremental growing neural gas terrain classes (`001` Alg. 11, decision 17).
 //! * [`morphology`]: class erosion and dilation (`001` Eq. 25–26, decision 18).
+//! * [`igmn`]: the incremental Gaussian mixture network regressor (thesis C1, `000` §V-A).
+//! * [`regression_tree`]: the depth-5 CART regression tree (thesis C1).
 //! * [`mixture`]: the GP mixture model of `004` (Eq. 3–6): mean-shift clusters, gating
 //!   regressions on position and aerial colour, heteroscedastic component GPs (decision 20).
 //!
 //! The crate works on the map crate's layers and descriptors and knows nothing of the simulator.
 
+pub mod bench;
 pub mod cost_model;
 pub mod descriptor_field;
 pub mod gp;
+pub mod igmn;
 pub mod igng;
 pub mod mixture;
 pub mod morphology;
 pub mod rbcm;
+pub mod regression_tree;
 pub mod signals;

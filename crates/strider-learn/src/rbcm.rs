@@ -14,8 +14,18 @@
 //! prior mean m the prior is one more "expert" (μ = m, σ² = K**) of weight (1 − Σ β_i), which
 //! keeps the committee shift-equivariant (adding c to every y and to m adds c to μ). With no
 //! expert of ≥ m_min points the prediction is the prior.
+//!
+//! # Hyperparameters per expert
+//! [`Rbcm::push`] keeps the shared hyperparameters. [`Rbcm::push_fitted`] is the `000` §V-A
+//! setup (each GPy expert optimised by L-BFGS-B, ≤ 200 steps): after the insertion the newest
+//! expert's lengthscale, σ_s² and σ_n² are refitted by [`fit_hyperparameters`] (bounded,
+//! warm-started from its previous values; a new expert starts from the shared ones). Experts then
+//! have their own prior variances K**_i: β_i uses the expert's own K**_i, and the prior's term
+//! (1 − Σ β_i) K**⁻¹ uses K** = max_i K**_i over the experts taking part. That choice keeps the
+//! precision positive whatever Σ β_i is (Σ β_i/σ_i² ≥ Σ β_i/K** since σ_i² ≤ K**_i ≤ K**), and
+//! with shared hyperparameters it is exactly Eq. 8. The prior mean stays the shared one.
 
-use crate::gp::{Gp, GpError, GpParams, Prediction};
+use crate::gp::{Gp, GpError, GpParams, HyperBounds, Prediction, fit_hyperparameters};
 
 /// How experts are weighted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -115,6 +125,29 @@ impl Rbcm {
         }
     }
 
+    /// [`Rbcm::push`], then refits the newest expert's hyperparameters within `bounds` (at most
+    /// `bounds.max_iterations` quasi-Newton steps, warm-started) and rebuilds it: O(m_max³) per
+    /// iteration, independent of the committee's size. A fit that fails (non-finite likelihood)
+    /// leaves the expert with its previous hyperparameters; the point is kept either way.
+    pub fn push_fitted(&mut self, x: &[f64], y: f64, bounds: &HyperBounds) -> Result<(), GpError> {
+        self.push(x, y)?;
+        let last = self.experts.len() - 1;
+        let e = &self.experts[last];
+        let n = e.len();
+        let mut xs = Vec::with_capacity(n * self.dim);
+        let mut ys = Vec::with_capacity(n);
+        for i in 0..n {
+            xs.extend_from_slice(e.x(i));
+            ys.push(e.y(i));
+        }
+        if let Ok(p) = fit_hyperparameters(self.dim, &xs, &ys, e.params().clone(), bounds)
+            && let Ok(g) = Gp::fit(self.dim, p, &xs, &ys)
+        {
+            self.experts[last] = g;
+        }
+        Ok(())
+    }
+
     /// The committee prediction at `x` (`000` Eq. 7–9).
     ///
     /// # Panics
@@ -126,7 +159,12 @@ impl Rbcm {
             self.experts
                 .iter()
                 .filter(|e| e.len() >= self.rbcm.m_min.max(1))
-                .map(|e| e.predict_with(x, &mut scratch)),
+                .map(|e| {
+                    (
+                        e.predict_with(x, &mut scratch),
+                        e.params().kernel.prior_variance(),
+                    )
+                }),
         )
     }
 
@@ -158,10 +196,19 @@ impl Rbcm {
         {
             e.predict_batch(xs, mc, vc)?;
         }
+        let priors: Vec<f64> = qualifying
+            .iter()
+            .map(|e| e.params().kernel.prior_variance())
+            .collect();
         for j in 0..q {
-            let p = self.combine((0..qualifying.len()).map(|i| Prediction {
-                mean: means[i * q + j],
-                latent_variance: vars[i * q + j],
+            let p = self.combine((0..qualifying.len()).map(|i| {
+                (
+                    Prediction {
+                        mean: means[i * q + j],
+                        latent_variance: vars[i * q + j],
+                    },
+                    priors[i],
+                )
             }));
             mean[j] = p.mean;
             latent_var[j] = p.latent_variance;
@@ -169,31 +216,38 @@ impl Rbcm {
         Ok(())
     }
 
-    /// β for one expert variance (`000` Eq. 9, clamped; 1 for the BCM).
+    /// β for one expert variance (`000` Eq. 9, clamped; 1 for the BCM), with the shared K**.
     pub fn beta(&self, expert_variance: f64) -> f64 {
+        self.beta_with(self.params.kernel.prior_variance(), expert_variance)
+    }
+
+    /// β for an expert of prior variance `kss` and latent variance `expert_variance`.
+    fn beta_with(&self, kss: f64, expert_variance: f64) -> f64 {
         match self.rbcm.variant {
             RbcmVariant::Bcm => 1.0,
             RbcmVariant::Robust => {
-                let kss = self.params.kernel.prior_variance();
                 let v = expert_variance.max(VAR_FLOOR * kss);
                 (0.5 * (kss.ln() - v.ln())).max(0.0)
             }
         }
     }
 
-    fn combine(&self, experts: impl Iterator<Item = Prediction>) -> Prediction {
-        let kss = self.params.kernel.prior_variance();
+    /// Combines (prediction, prior variance K**_i) of the experts taking part (module docs).
+    fn combine(&self, experts: impl Iterator<Item = (Prediction, f64)>) -> Prediction {
         let m = self.params.prior_mean;
         let mut prec = 0.0;
         let mut weighted = 0.0;
         let mut beta_sum = 0.0;
-        for p in experts {
+        let mut kss_max: Option<f64> = None;
+        for (p, kss) in experts {
             let v = p.latent_variance.max(VAR_FLOOR * kss);
-            let b = self.beta(p.latent_variance);
+            let b = self.beta_with(kss, p.latent_variance);
             prec += b / v;
             weighted += b / v * p.mean;
             beta_sum += b;
+            kss_max = Some(kss_max.map_or(kss, |k: f64| k.max(kss)));
         }
+        let kss = kss_max.unwrap_or_else(|| self.params.kernel.prior_variance());
         prec += (1.0 - beta_sum) / kss;
         weighted += (1.0 - beta_sum) / kss * m;
         let var = 1.0 / prec;

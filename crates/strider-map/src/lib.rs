@@ -12,6 +12,8 @@
 //! * [`reachability`]: cells reachable from the robot over admissible cells.
 //! * [`descriptors`]: the 9-bin colour histogram ta(ν) (`001` §4.2), the thesis C4 8-bin
 //!   histogram, Lab (a, b) and the 5-D shape + Lab descriptor (`000` Eq. 10, decision 7).
+//! * [`c1_descriptors`]: the thesis C1 descriptor family (RGB/Lab of the cell or its
+//!   neighbourhood; height, shape, orientation features) for the learner benchmark.
 //! * [`observability`]: observable(ν, ν') by ray casting (`001` Eq. 11, decision 5).
 //! * [`information_gain`]: I_cell (`001` Eq. 10) and I_model (`001` Eq. 11) on candidate cells.
 //! * [`clustering`]: spatial goals by `001` Alg. 3.
@@ -20,6 +22,7 @@
 //! The crate knows nothing of the simulator or scenarios: it consumes
 //! [`strider_core::PointCloud`]s and answers queries on cells of the global lattice.
 
+pub mod c1_descriptors;
 pub mod clustering;
 pub mod descriptors;
 pub mod frontiers;

@@ -10,6 +10,7 @@
 
 mod bonn_paths;
 mod canvas;
+mod cot_track;
 mod courtyard_large;
 mod courtyard_small;
 mod energy_arena;
@@ -30,7 +31,7 @@ struct Entry {
     generate: fn(u64) -> Result<Scenario, ScenarioError>,
 }
 
-const ENTRIES: [Entry; 6] = [
+const ENTRIES: [Entry; 7] = [
     Entry {
         name: "courtyard-small",
         description: courtyard_small::DESCRIPTION,
@@ -61,15 +62,21 @@ const ENTRIES: [Entry; 6] = [
         description: bonn_paths::DESCRIPTION,
         generate: bonn_paths::generate,
     },
+    Entry {
+        name: "cot-track",
+        description: cot_track::DESCRIPTION,
+        generate: cot_track::generate,
+    },
 ];
 
-const NAMES: [&str; 6] = [
+const NAMES: [&str; 7] = [
     ENTRIES[0].name,
     ENTRIES[1].name,
     ENTRIES[2].name,
     ENTRIES[3].name,
     ENTRIES[4].name,
     ENTRIES[5].name,
+    ENTRIES[6].name,
 ];
 
 /// Names of the built-in scenarios.

@@ -1,0 +1,154 @@
+//! `strider replay`: a recorded ROS 2 log (MCAP) behind the robot interface, ingested by the
+//! mission's own mapping and learning ([`Mission::ingest`]); writes the report of `strider run`
+//! without the benchmark tours (`report.json`, `report.html`, the figures).
+
+use std::fs;
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use serde_json::json;
+use strider_core::Point2;
+use strider_explore::{Mission, MissionParams, Strategy};
+use strider_log::config::MissionConfig;
+use strider_log::{LogReplay, ReplayConfig};
+use strider_map::rect::WorldRect;
+
+use crate::cmd_run::{median_max, models_json, report_html, write_figures};
+use crate::cmd_scenario::load;
+use strider_cli::trial::{mission_params, robot_mission_params};
+
+/// The mission parameters of a replay: a scenario's (with `parameters` overriding its
+/// `[strategy]` table) or the robot's given in the configuration.
+pub fn mission_params_of(c: &MissionConfig) -> Result<MissionParams> {
+    let Some(strategy) = Strategy::parse(&c.strategy) else {
+        bail!(
+            "replay config: unknown strategy {:?}; expected gtsp, greedy or spatial-only",
+            c.strategy
+        );
+    };
+    if let Some(name) = &c.scenario {
+        let mut sc = load(name, c.world_seed)?;
+        sc.strategy.extend(c.parameters.clone());
+        return mission_params(&sc, strategy, c.seed);
+    }
+    for g in &c.gaits {
+        if !(g.v_max.is_finite() && g.v_max > 0.0) {
+            bail!(
+                "replay config: gait {:?} needs a positive v_max, got {}",
+                g.name,
+                g.v_max
+            );
+        }
+    }
+    let bounds = c
+        .bounds
+        .map(|[a, b]| WorldRect::new(Point2::new(a[0], a[1]), Point2::new(b[0], b[1])));
+    Ok(robot_mission_params(
+        c.map.clone().unwrap_or_default(),
+        c.gaits.clone(),
+        c.sensor_hfov_deg.clone(),
+        &c.parameters,
+        bounds,
+        strategy,
+        c.seed,
+    ))
+}
+
+/// Runs `strider replay`.
+pub fn run(log_path: &Path, config: &Path, out: &Path) -> Result<()> {
+    let wall = Instant::now();
+    let cfg = ReplayConfig::load(config)?;
+    let mut params = mission_params_of(&cfg.mission)?;
+    let mut replay = LogReplay::open(log_path, &cfg, &params)?;
+    params.time_limit_s = replay.time_limit_s(1.0 / params.rates.control_hz);
+    fs::create_dir_all(out)
+        .with_context(|| format!("{}: cannot create directory", out.display()))?;
+    let bar = indicatif::ProgressBar::new(params.time_limit_s.max(1.0) as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} replaying {pos}/{len} s recorded ({elapsed}) {msg}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+    );
+    let mut mission = Mission::new(params)?;
+    let log = mission
+        .ingest(&mut replay, |_, p| {
+            bar.set_position(p.time_s as u64);
+            bar.set_message(format!(
+                "{} cells mapped, {} learning pairs",
+                p.observed_cells, p.learning_set
+            ));
+        })?
+        .clone();
+    bar.finish_and_clear();
+    write_figures(&mission, &log, &[], out)?;
+    let stats = replay.stats().clone();
+    let (le_med, le_max) = median_max(&log.learning_ms);
+    let wall_s = wall.elapsed().as_secs_f64();
+    let report = json!({
+        "source_log": log_path.display().to_string(),
+        "config": config.display().to_string(),
+        "scenario": cfg.mission.scenario,
+        "seed": cfg.mission.seed,
+        "strategy": "replay",
+        "termination": format!("{:?}", log.termination),
+        "exploration_time_s": log.exploration_time_s,
+        "log_duration_s": replay.duration_s(),
+        "driven_m": log.driven_m,
+        "observed_cells": mission.map().observed_count(),
+        "scans_fused": mission.map().scan_count(),
+        "replay": {
+            "messages": stats.messages,
+            "poses": stats.poses,
+            "poses_delivered": stats.poses_delivered,
+            "bad_poses": stats.bad_poses,
+            "clouds": stats.clouds,
+            "clouds_fused": stats.clouds_delivered,
+            "clouds_skipped_keyframes": stats.clouds_skipped,
+            "clouds_uncoloured": stats.clouds_uncoloured,
+            "points": stats.points,
+            "warnings": replay.warnings(),
+        },
+        "phase_wall_s": log.phase_wall_s,
+        "models": models_json(&mission, &log),
+        "stuck_events": log.stuck_events,
+        "turn_skipped_cost_samples": log.turn_skipped,
+        "goal_identification_ms": {
+            "learning": {"median": le_med, "max": le_max},
+        },
+        "mission_wall_s": log.wall_s,
+        "speedup": log.exploration_time_s / log.wall_s.max(1e-9),
+        "wall_time_s": wall_s,
+        "trajectory": log.trajectory,
+    });
+    let path = out.join("report.json");
+    fs::write(&path, serde_json::to_string_pretty(&report)?)
+        .with_context(|| format!("{}: cannot write", path.display()))?;
+    let gait_names: Vec<String> = mission
+        .params()
+        .gaits
+        .iter()
+        .map(|g| g.name.clone())
+        .collect();
+    let html = out.join("report.html");
+    fs::write(&html, report_html(&report, &gait_names, &[]))
+        .with_context(|| format!("{}: cannot write", html.display()))?;
+    println!(
+        "{}: {:.0} s of log replayed in {:.1} s ({:.0}x real time): {} cells mapped from {} of {} scans, {} poses, {} cost samples -> {}",
+        log_path.display(),
+        log.exploration_time_s,
+        log.wall_s,
+        log.exploration_time_s / log.wall_s.max(1e-9),
+        mission.map().observed_count(),
+        stats.clouds_delivered,
+        stats.clouds,
+        stats.poses_delivered,
+        log.cost_samples.iter().sum::<usize>(),
+        path.display()
+    );
+    for w in replay.warnings() {
+        println!("  note: {w}");
+    }
+    Ok(())
+}

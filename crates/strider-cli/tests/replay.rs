@@ -1,0 +1,231 @@
+//! MCAP round trip and `strider replay` end to end: a simulated mission recorded as ROS 2
+//! messages and replayed through the log reader gives the live run's map and learned costs;
+//! bad input ends in one clear error line.
+
+mod common;
+
+use std::path::Path;
+use strider_cli::trial::{mission_params, run_mission, run_mission_recorded};
+use strider_core::msg::ColoredPoint;
+use strider_explore::{Mission, Strategy};
+use strider_log::ros2::{self, Header, MsgType, Odometry, Quaternion, Time, UInt8Msg};
+use strider_log::{LogReplay, McapWriter, ReplayConfig};
+use strider_scenario::Scenario;
+
+const TOL: f64 = 1e-4;
+
+fn close(a: f64, b: f64) -> bool {
+    (a.is_nan() && b.is_nan()) || (a - b).abs() <= TOL
+}
+
+#[test]
+fn replay_of_a_recorded_mission_gives_the_live_map_and_costs() {
+    let sc = Scenario::from_name_or_file("courtyard-small", 1).unwrap();
+    let mut params = mission_params(&sc, Strategy::Gtsp, 1).unwrap();
+    params.time_limit_s = 90.0;
+    let dir = common::temp_dir("replay", "round-trip");
+    let file = dir.join("run.mcap");
+    let (live, live_log, written) =
+        run_mission_recorded(&sc, params.clone(), 1, |_| {}, &file).unwrap();
+    assert!(written.messages["/robot/sensor_0/points"] > 10);
+    assert!(written.messages["/strider/map"] > 5);
+
+    // Recording does not change the mission.
+    let (_, plain_log) = run_mission(&sc, params.clone(), 1, |_| {}).unwrap();
+    assert_eq!(plain_log.trajectory, live_log.trajectory);
+    assert_eq!(plain_log.cost_samples, live_log.cost_samples);
+
+    // Replay through the log reader and the mission's passive loop.
+    let cfg = ReplayConfig::parse("[mission]\nscenario = \"courtyard-small\"\n").unwrap();
+    let mut replay = LogReplay::open(&file, &cfg, &params).unwrap();
+    let mut rp = params.clone();
+    rp.time_limit_s = replay.time_limit_s(1.0 / rp.rates.control_hz);
+    let mut mission = Mission::new(rp).unwrap();
+    let log = mission.ingest(&mut replay, |_, _| {}).unwrap().clone();
+    assert!(replay.warnings().is_empty(), "{:?}", replay.warnings());
+    assert_eq!(log.cost_samples, live_log.cost_samples);
+    assert!((log.exploration_time_s - live_log.exploration_time_s).abs() < 1e-9);
+
+    // Map layers.
+    let (a, b) = (live.map(), mission.map());
+    let rect = a.known_bounds().unwrap();
+    assert_eq!(Some(rect), b.known_bounds());
+    assert_eq!(a.scan_count(), b.scan_count());
+    assert_eq!(a.observed_raster(rect), b.observed_raster(rect));
+    assert_eq!(a.color_raster(rect), b.color_raster(rect));
+    assert_eq!(a.passability_raster(rect), b.passability_raster(rect));
+    for (x, y) in [
+        (a.elevation_raster(rect), b.elevation_raster(rect)),
+        (a.variance_raster(rect), b.variance_raster(rect)),
+    ] {
+        let worst = x
+            .iter()
+            .zip(&y)
+            .filter(|(p, q)| !close(**p as f64, **q as f64))
+            .count();
+        assert_eq!(worst, 0, "{worst} cells differ by more than {TOL}");
+    }
+
+    // Learned costs: classes, planning costs, measured cells.
+    let classes: usize = live.model_updates().iter().map(|u| u.classes.len()).sum();
+    assert!(classes > 0, "the live run learned terrain classes");
+    for (g, (ma, mb)) in live.models().iter().zip(mission.models()).enumerate() {
+        let (ua, ub) = (&live.model_updates()[g], &mission.model_updates()[g]);
+        assert_eq!(ua.classes.len(), ub.classes.len(), "gait {g}");
+        for (ca, cb) in ua.classes.iter().zip(&ub.classes) {
+            assert_eq!(ca.id, cb.id);
+            assert!(close(ca.cost, cb.cost), "gait {g}: {ca:?} vs {cb:?}");
+            assert!(
+                close(ca.variance, cb.variance),
+                "gait {g}: {ca:?} vs {cb:?}"
+            );
+        }
+        let (pa, pb) = (ma.planning_costs(rect), mb.planning_costs(rect));
+        assert!(pa.iter().zip(&pb).all(|(x, y)| close(*x as f64, *y as f64)));
+        assert_eq!(ma.measured_cells(), mb.measured_cells());
+        for &c in ma.measured_cells() {
+            let (x, y) = (ma.cell_cost(c).unwrap(), mb.cell_cost(c).unwrap());
+            assert!(close(x.cost, y.cost) && x.count == y.count);
+        }
+    }
+
+    // The command: the same class costs in its report.
+    let cfg_file = dir.join("replay.toml");
+    std::fs::write(&cfg_file, "[mission]\nscenario = \"courtyard-small\"\n").unwrap();
+    let out = dir.join("out");
+    let o = common::strider(&[
+        "replay",
+        file.to_str().unwrap(),
+        "--config",
+        cfg_file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(
+        report["observed_cells"].as_u64(),
+        Some(a.observed_count() as u64)
+    );
+    for (g, m) in report["models"].as_array().unwrap().iter().enumerate() {
+        let classes = &live.model_updates()[g].classes;
+        let table = m["class_table"].as_array().unwrap();
+        assert_eq!(table.len(), classes.len());
+        for (row, c) in table.iter().zip(classes) {
+            assert!(close(row["cost"].as_f64().unwrap(), c.cost));
+        }
+    }
+    assert!(out.join("report.html").exists() && out.join("color.png").exists());
+}
+
+/// A small valid log: poses, one coloured scan, motion states.
+fn small_log(path: &Path) {
+    let mut w = McapWriter::create(path).unwrap();
+    for k in 0..10i64 {
+        let ns = k * 50_000_000;
+        let mut o = Odometry {
+            header: Header {
+                stamp: Time::from_nanos(ns),
+                frame_id: "map".into(),
+            },
+            child_frame_id: "base_link".into(),
+            ..Default::default()
+        };
+        o.pose.pose.position.x = 0.5 + 0.002 * k as f64;
+        o.pose.pose.orientation = Quaternion::IDENTITY;
+        w.write_ros2("/robot/odom", MsgType::Odometry, ns, &o)
+            .unwrap();
+        w.write_ros2("/robot/motion", MsgType::UInt8, ns, &UInt8Msg { data: 0 })
+            .unwrap();
+    }
+    let pts: Vec<ColoredPoint> = (0..50)
+        .map(|k| ColoredPoint {
+            x: 0.6 + 0.01 * k as f32,
+            y: 0.5,
+            z: 0.0,
+            rgb: [90, 160, 60],
+        })
+        .collect();
+    let mut tf = ros2::TfMessage::default();
+    tf.transforms.push(ros2::TransformStamped {
+        header: Header {
+            stamp: Time::default(),
+            frame_id: "map".into(),
+        },
+        child_frame_id: "sensor_0".into(),
+        transform: ros2::Transform {
+            translation: ros2::Vector3 {
+                x: 0.5,
+                y: 0.5,
+                z: 0.3,
+            },
+            rotation: Quaternion::IDENTITY,
+        },
+    });
+    w.write_ros2("/tf", MsgType::TfMessage, 0, &tf).unwrap();
+    let c = ros2::encode_cloud(Time::default(), "map", &pts).unwrap();
+    w.write_cdr("/robot/sensor_0/points", MsgType::PointCloud2, 0, &c)
+        .unwrap();
+    w.finish().unwrap();
+}
+
+fn replay(log: &Path, config: &str, dir: &Path) -> std::process::Output {
+    let cfg = dir.join("c.toml");
+    std::fs::write(&cfg, config).unwrap();
+    common::strider(&[
+        "replay",
+        log.to_str().unwrap(),
+        "--config",
+        cfg.to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+    ])
+}
+
+const CONFIG: &str = "[gait]\ntopic = \"\"\n[mission]\nscenario = \"courtyard-small\"\n";
+
+#[test]
+fn replay_errors_are_one_clear_line() {
+    let dir = common::temp_dir("replay", "errors");
+    let log = dir.join("small.mcap");
+    small_log(&log);
+    let o = replay(&log, CONFIG, &dir);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+
+    // Missing file.
+    let e = common::one_line_error(&replay(&dir.join("nope.mcap"), CONFIG, &dir));
+    assert!(e.contains("nope.mcap"), "{e}");
+
+    // Truncated file.
+    let bytes = std::fs::read(&log).unwrap();
+    let cut = dir.join("cut.mcap");
+    std::fs::write(&cut, &bytes[..bytes.len() * 2 / 3]).unwrap();
+    let e = common::one_line_error(&replay(&cut, CONFIG, &dir));
+    assert!(
+        e.contains("cut.mcap") && e.contains("not a readable MCAP file"),
+        "{e}"
+    );
+
+    // Not an MCAP file at all.
+    let junk = dir.join("junk.mcap");
+    std::fs::write(&junk, b"#!/bin/sh\necho hello\n").unwrap();
+    let e = common::one_line_error(&replay(&junk, CONFIG, &dir));
+    assert!(e.contains("junk.mcap"), "{e}");
+
+    // Missing topic.
+    let e = common::one_line_error(&replay(
+        &log,
+        "[[clouds]]\ntopic = \"/camera/points\"\n[gait]\ntopic = \"\"\n\
+         [mission]\nscenario = \"courtyard-small\"\n",
+        &dir,
+    ));
+    assert!(
+        e.contains("/camera/points") && e.contains("/robot/sensor_0/points"),
+        "{e}"
+    );
+
+    // A configuration without the robot.
+    let e = common::one_line_error(&replay(&log, "[gait]\ntopic = \"\"\n", &dir));
+    assert!(e.contains("replay config") && e.contains("mission"), "{e}");
+}

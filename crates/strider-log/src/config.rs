@@ -1,0 +1,356 @@
+//! The replay configuration (TOML): which topics and frames of a log carry what, and the
+//! robot, map and learning parameters the mission needs.
+//!
+//! Every key has a default matching what `strider run --mcap` records, so a configuration for
+//! Strider's own logs only needs its `[mission]` table. A complete example:
+//!
+//! ```toml
+//! world_frame = "map"            # the fixed frame the map is built in
+//! keyframes = true               # fuse only the scans the mission's keyframe rule wants
+//!                                # (false: fuse every scan in the log)
+//! reorder_window_s = 1.0         # clouds may arrive this much out of stamp order in the file
+//! motion_topic = "/robot/motion" # std_msgs/msg/UInt8, bit 0 = path done (idle), bit 1 =
+//!                                # blocked; "" = none: the robot counts as driving throughout
+//!
+//! [pose]                         # the body pose stream (cost measurement, keyframes)
+//! topic = "/robot/odom"          # nav_msgs/msg/Odometry; its header frame is chained to
+//!                                # world_frame through /tf when it differs
+//! from_tf = false                # true: take the pose from /tf (world_frame → base_frame)
+//! base_frame = "base_link"
+//!
+//! [[clouds]]                     # one table per sensor, in the order of the sensor ids
+//! topic = "/robot/sensor_0/points"   # sensor_msgs/msg/PointCloud2 with x, y, z and colour
+//! origin_frame = "sensor_0"      # the frame whose origin is the sensor (default: the
+//!                                # cloud's own frame; required for clouds in world_frame)
+//! missing_rgb = "error"          # or "gray": map clouds without a colour field uncoloured
+//!
+//! [gait]
+//! topic = "/robot/gait"          # std_msgs/msg/String (gait name) or std_msgs/msg/UInt8
+//!                                # (gait index); "" = none
+//! default = "fast"               # before the first gait message, or throughout without one
+//!                                # (default: the fastest gait)
+//!
+//! [tf]
+//! topic = "/tf"
+//! static_topic = "/tf_static"
+//! tolerance_s = 0.5              # a transform is used up to this far outside its stamps
+//!
+//! [mission]
+//! scenario = "courtyard-small"   # robot profile, map parameters and [strategy] table of a
+//! world_seed = 1                 # scenario (built-in name or TOML file; its world is unused)
+//! seed = 1                       # the mission's seed (IGNG batches)
+//! strategy = "gtsp"
+//! # ... or, instead of `scenario`, the robot and parameters themselves:
+//! # gaits = [{ name = "fast", v_max = 0.05 }, { name = "tall", v_max = 0.0125 }]
+//! # sensor_hfov_deg = [87.0]
+//! # bounds = [[-5.0, -5.0], [5.0, 5.0]]   # optional
+//! # [mission.map]                # MapParams (cell_size, r_robot, r_sensor, …)
+//! # [mission.parameters]         # the keys of a scenario's [strategy] table
+//! ```
+//!
+//! Topics in the log that are not named here are ignored. The pose topic and every cloud
+//! topic must have messages; the gait, motion and tf topics are used when present.
+
+use crate::error::LogError;
+use crate::ros2::MissingRgb;
+use serde::Deserialize;
+use std::path::Path;
+use strider_explore::GaitSpec;
+use strider_map::params::MapParams;
+
+/// The whole replay configuration.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReplayConfig {
+    /// The fixed frame the map is built in.
+    #[serde(default = "world")]
+    pub world_frame: String,
+    /// Fuse only the scans the mission's keyframe rule wants.
+    #[serde(default = "yes")]
+    pub keyframes: bool,
+    /// How far out of stamp order clouds may be in the file, s.
+    #[serde(default = "one")]
+    pub reorder_window_s: f64,
+    /// std_msgs/UInt8 motion state per control tick ("" = none).
+    #[serde(default = "motion")]
+    pub motion_topic: String,
+    /// The pose stream.
+    #[serde(default)]
+    pub pose: PoseConfig,
+    /// One entry per sensor, in sensor-id order.
+    #[serde(default = "clouds")]
+    pub clouds: Vec<CloudConfig>,
+    /// Where the gait comes from.
+    #[serde(default)]
+    pub gait: GaitConfig,
+    /// The transform topics.
+    #[serde(default)]
+    pub tf: TfConfig,
+    /// Robot, map and learning parameters.
+    pub mission: MissionConfig,
+}
+
+fn world() -> String {
+    "map".into()
+}
+fn yes() -> bool {
+    true
+}
+fn one() -> f64 {
+    1.0
+}
+fn motion() -> String {
+    "/robot/motion".into()
+}
+fn clouds() -> Vec<CloudConfig> {
+    vec![CloudConfig {
+        topic: "/robot/sensor_0/points".into(),
+        origin_frame: Some("sensor_0".into()),
+        missing_rgb: MissingRgb::Error,
+    }]
+}
+
+/// The pose stream.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PoseConfig {
+    /// nav_msgs/msg/Odometry topic.
+    pub topic: String,
+    /// Take the pose from /tf instead.
+    pub from_tf: bool,
+    /// The body frame (for `from_tf`).
+    pub base_frame: String,
+}
+
+impl Default for PoseConfig {
+    fn default() -> Self {
+        Self {
+            topic: "/robot/odom".into(),
+            from_tf: false,
+            base_frame: "base_link".into(),
+        }
+    }
+}
+
+/// One sensor's point clouds.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CloudConfig {
+    /// sensor_msgs/msg/PointCloud2 topic.
+    pub topic: String,
+    /// The frame whose origin is the sensor (default: the cloud's frame).
+    #[serde(default)]
+    pub origin_frame: Option<String>,
+    /// What to do with clouds without colour.
+    #[serde(default)]
+    pub missing_rgb: MissingRgb,
+}
+
+/// Where the gait comes from.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GaitConfig {
+    /// std_msgs/String (name) or std_msgs/UInt8 (index) topic ("" = none).
+    pub topic: String,
+    /// The gait before the first message or throughout (default: the fastest).
+    pub default: Option<String>,
+}
+
+impl Default for GaitConfig {
+    fn default() -> Self {
+        Self {
+            topic: "/robot/gait".into(),
+            default: None,
+        }
+    }
+}
+
+/// The transform topics.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TfConfig {
+    /// tf2_msgs/msg/TFMessage.
+    pub topic: String,
+    /// tf2_msgs/msg/TFMessage, latched static transforms.
+    pub static_topic: String,
+    /// A transform is used up to this far before its first or after its last stamp, s.
+    pub tolerance_s: f64,
+}
+
+impl Default for TfConfig {
+    fn default() -> Self {
+        Self {
+            topic: "/tf".into(),
+            static_topic: "/tf_static".into(),
+            tolerance_s: 0.5,
+        }
+    }
+}
+
+/// Robot, map and learning parameters: a scenario's, or given here.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MissionConfig {
+    /// Take the robot profile, map parameters and `[strategy]` table of this scenario
+    /// (built-in name or TOML file).
+    #[serde(default)]
+    pub scenario: Option<String>,
+    /// The scenario's world seed.
+    #[serde(default = "one_u64")]
+    pub world_seed: u64,
+    /// The mission's seed.
+    #[serde(default = "one_u64")]
+    pub seed: u64,
+    /// Exploration strategy name (it only decides whether the view for the gait choice is
+    /// kept; learning is the same).
+    #[serde(default = "gtsp")]
+    pub strategy: String,
+    /// The robot's gaits (without `scenario`).
+    #[serde(default)]
+    pub gaits: Vec<GaitSpec>,
+    /// Horizontal field of view per sensor, degrees (without `scenario`).
+    #[serde(default)]
+    pub sensor_hfov_deg: Vec<f64>,
+    /// Exploration bounds [[min x, min y], [max x, max y]] (without `scenario`).
+    #[serde(default)]
+    pub bounds: Option<[[f64; 2]; 2]>,
+    /// Map parameters (without `scenario`).
+    #[serde(default)]
+    pub map: Option<MapParams>,
+    /// The `001` Tbl. 3 values by the names of a scenario's `[strategy]` table.
+    #[serde(default)]
+    pub parameters: toml::Table,
+}
+
+fn one_u64() -> u64 {
+    1
+}
+fn gtsp() -> String {
+    "gtsp".into()
+}
+
+impl ReplayConfig {
+    /// Parses a configuration.
+    pub fn parse(text: &str) -> Result<Self, LogError> {
+        let c: ReplayConfig =
+            toml::from_str(text).map_err(|e| LogError::Config(e.to_string().replace('\n', " ")))?;
+        c.validate()?;
+        Ok(c)
+    }
+
+    /// Reads and parses a configuration file.
+    pub fn load(path: &Path) -> Result<Self, LogError> {
+        let text = std::fs::read_to_string(path).map_err(|e| LogError::io(path, e))?;
+        Self::parse(&text).map_err(|e| match e {
+            LogError::Config(m) => LogError::Config(format!("{}: {m}", path.display())),
+            e => e,
+        })
+    }
+
+    fn validate(&self) -> Result<(), LogError> {
+        let bad = |m: String| Err(LogError::Config(m));
+        if self.clouds.is_empty() {
+            return bad("no [[clouds]] topic: the map needs point clouds".into());
+        }
+        if self.clouds.len() > u8::MAX as usize {
+            return bad(format!("{} cloud topics: at most 255", self.clouds.len()));
+        }
+        if !self.pose.from_tf && self.pose.topic.is_empty() {
+            return bad("[pose] needs a topic, or from_tf = true".into());
+        }
+        if !(self.reorder_window_s.is_finite() && self.reorder_window_s >= 0.0) {
+            return bad(format!(
+                "reorder_window_s must be ≥ 0, got {}",
+                self.reorder_window_s
+            ));
+        }
+        if !(self.tf.tolerance_s.is_finite() && self.tf.tolerance_s >= 0.0) {
+            return bad(format!(
+                "[tf] tolerance_s must be ≥ 0, got {}",
+                self.tf.tolerance_s
+            ));
+        }
+        let m = &self.mission;
+        if m.scenario.is_none() && m.gaits.is_empty() {
+            return bad("[mission] needs a scenario or gaits".into());
+        }
+        if m.scenario.is_some()
+            && (!m.gaits.is_empty()
+                || !m.sensor_hfov_deg.is_empty()
+                || m.map.is_some()
+                || m.bounds.is_some())
+        {
+            return bad(
+                "[mission]: give either a scenario or gaits/sensor_hfov_deg/map/bounds, not both"
+                    .into(),
+            );
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn minimal_config_has_the_recorders_defaults() {
+        let c = ReplayConfig::parse("[mission]\nscenario = \"courtyard-small\"\n").unwrap();
+        assert_eq!(c.pose.topic, "/robot/odom");
+        assert_eq!(c.clouds[0].topic, "/robot/sensor_0/points");
+        assert_eq!(c.clouds[0].origin_frame.as_deref(), Some("sensor_0"));
+        assert_eq!(c.gait.topic, "/robot/gait");
+        assert_eq!(c.motion_topic, "/robot/motion");
+        assert!(c.keyframes);
+    }
+
+    #[test]
+    fn explicit_robot_parses() {
+        let c = ReplayConfig::parse(
+            r#"
+            world_frame = "odom"
+            [pose]
+            from_tf = true
+            [[clouds]]
+            topic = "/camera/points"
+            missing_rgb = "gray"
+            [gait]
+            topic = ""
+            default = "walk"
+            [mission]
+            gaits = [{ name = "walk", v_max = 0.3 }]
+            sensor_hfov_deg = [87.0]
+            bounds = [[-1.0, -1.0], [1.0, 1.0]]
+            [mission.map]
+            cell_size = 0.1
+            [mission.parameters]
+            delta_t = 4.0
+            "#,
+        )
+        .unwrap();
+        assert!(c.pose.from_tf);
+        assert_eq!(c.clouds[0].missing_rgb, MissingRgb::Gray);
+        assert_eq!(c.mission.map.as_ref().unwrap().cell_size, 0.1);
+        assert_eq!(c.mission.parameters["delta_t"].as_float(), Some(4.0));
+    }
+
+    #[test]
+    fn bad_configs_are_refused() {
+        for (text, needle) in [
+            ("", "mission"),
+            ("[mission]\n", "scenario or gaits"),
+            (
+                "clouds = []\n[mission]\nscenario = \"x\"\n",
+                "no [[clouds]]",
+            ),
+            ("bogus = 1\n[mission]\nscenario = \"x\"\n", "bogus"),
+            (
+                "[mission]\nscenario = \"x\"\ngaits = [{ name = \"a\", v_max = 1.0 }]\n",
+                "either",
+            ),
+        ] {
+            let e = ReplayConfig::parse(text).unwrap_err().to_string();
+            assert!(e.contains(needle), "{text:?}: {e}");
+        }
+    }
+}
