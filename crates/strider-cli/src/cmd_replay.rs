@@ -14,7 +14,7 @@ use strider_log::config::MissionConfig;
 use strider_log::{LogReplay, ReplayConfig};
 use strider_map::rect::WorldRect;
 
-use crate::cmd_run::{median_max, models_json, report_html, write_figures};
+use crate::cmd_run::{median_max, models_json, write_figures, write_reports};
 use crate::cmd_scenario::load;
 use strider_cli::trial::{mission_params, robot_mission_params};
 
@@ -122,18 +122,7 @@ pub fn run(log_path: &Path, config: &Path, out: &Path) -> Result<()> {
         "wall_time_s": wall_s,
         "trajectory": log.trajectory,
     });
-    let path = out.join("report.json");
-    fs::write(&path, serde_json::to_string_pretty(&report)?)
-        .with_context(|| format!("{}: cannot write", path.display()))?;
-    let gait_names: Vec<String> = mission
-        .params()
-        .gaits
-        .iter()
-        .map(|g| g.name.clone())
-        .collect();
-    let html = out.join("report.html");
-    fs::write(&html, report_html(&report, &gait_names, &[]))
-        .with_context(|| format!("{}: cannot write", html.display()))?;
+    let path = write_reports(out, &report, &mission, &[])?;
     println!(
         "{}: {:.0} s of log replayed in {:.1} s ({:.0}x real time): {} cells mapped from {} of {} scans, {} poses, {} cost samples -> {}",
         log_path.display(),

@@ -142,18 +142,7 @@ pub fn run(
         "wall_time_s": wall_s,
         "trajectory": log.trajectory,
     });
-    let path = out.join("report.json");
-    fs::write(&path, serde_json::to_string_pretty(&report)?)
-        .with_context(|| format!("{}: cannot write", path.display()))?;
-    let gait_names: Vec<String> = mission
-        .params()
-        .gaits
-        .iter()
-        .map(|g| g.name.clone())
-        .collect();
-    let html = out.join("report.html");
-    fs::write(&html, report_html(&report, &gait_names, &tours))
-        .with_context(|| format!("{}: cannot write", html.display()))?;
+    let path = write_reports(out, &report, &mission, &tours)?;
     println!(
         "{} ({}): {:?} after {:.0} s simulated, {:.1} m driven, {} replans (median {:.1} ms, max {:.1} ms), {:.0}x real time, {:.1} s wall -> {}",
         sc.name,
@@ -183,6 +172,29 @@ pub fn run(
         println!("  tour {name}: {}", parts.join(", "));
     }
     Ok(())
+}
+
+/// Writes `report.json` and `report.html` (for `mission`'s gaits and the driven `tours`) into
+/// `out`; returns the JSON's path.
+pub(crate) fn write_reports(
+    out: &Path,
+    report: &serde_json::Value,
+    mission: &Mission,
+    tours: &[(String, Vec<TourResult>)],
+) -> Result<std::path::PathBuf> {
+    let path = out.join("report.json");
+    fs::write(&path, serde_json::to_string_pretty(report)?)
+        .with_context(|| format!("{}: cannot write", path.display()))?;
+    let gait_names: Vec<String> = mission
+        .params()
+        .gaits
+        .iter()
+        .map(|g| g.name.clone())
+        .collect();
+    let html = out.join("report.html");
+    fs::write(&html, report_html(report, &gait_names, tours))
+        .with_context(|| format!("{}: cannot write", html.display()))?;
+    Ok(path)
 }
 
 /// Per-gait model summaries of the report: classes with dominant colour, cost and variance,
@@ -361,7 +373,7 @@ fn esc(s: &str) -> String {
 
 /// `report.html`: the summary, the tour and model tables, and the figures of `001` Fig. 5/7
 /// with captions, all read from the report written beside it.
-pub(crate) fn report_html(
+fn report_html(
     r: &serde_json::Value,
     gaits: &[String],
     tours: &[(String, Vec<TourResult>)],
