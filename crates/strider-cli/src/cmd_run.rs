@@ -26,19 +26,53 @@ pub(crate) fn median_max(v: &[f64]) -> (f64, f64) {
     (s[s.len() / 2], s[s.len() - 1])
 }
 
+/// What `strider run` was asked to do.
+#[derive(Clone, Copy, Debug)]
+pub struct RunRequest<'a> {
+    /// Scenario name or file.
+    pub scenario: &'a str,
+    /// World seed of a built-in scenario.
+    pub world_seed: u64,
+    /// Strategy name.
+    pub strategy: &'a str,
+    /// Mission and simulator seed.
+    pub seed: u64,
+    /// Time limit override, simulated seconds.
+    pub time_limit: Option<f64>,
+    /// Output directory.
+    pub out: &'a Path,
+    /// MCAP recording file.
+    pub mcap: Option<&'a Path>,
+    /// Walking gait (rbcm-greedy only).
+    pub gait: Option<&'a str>,
+}
+
 /// Runs `strider run`.
-pub fn run(
-    arg: &str,
-    world_seed: u64,
-    strategy: &str,
-    seed: u64,
-    time_limit: Option<f64>,
-    out: &Path,
-    mcap: Option<&Path>,
-) -> Result<()> {
+pub fn run(req: &RunRequest) -> Result<()> {
+    let RunRequest {
+        scenario: arg,
+        world_seed,
+        strategy,
+        seed,
+        time_limit,
+        out,
+        mcap,
+        gait,
+    } = *req;
+    if strategy == "rbcm-greedy" {
+        if mcap.is_some() {
+            bail!("--mcap records the 001 mission (gtsp, greedy, spatial-only), not rbcm-greedy");
+        }
+        return crate::cmd_run_rbcm::run(arg, world_seed, seed, time_limit, out, gait);
+    }
+    if gait.is_some() {
+        bail!(
+            "--gait chooses the walking gait of rbcm-greedy; the {strategy} mission chooses gaits itself"
+        );
+    }
     let wall = Instant::now();
     let Some(strategy) = Strategy::parse(strategy) else {
-        bail!("unknown strategy {strategy:?}; expected gtsp, greedy or spatial-only");
+        bail!("unknown strategy {strategy:?}; expected gtsp, greedy, spatial-only or rbcm-greedy");
     };
     let sc = load(arg, world_seed)?;
     let mut params = mission_params(&sc, strategy, seed)?;

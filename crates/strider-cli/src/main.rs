@@ -12,6 +12,7 @@ mod cmd_map;
 mod cmd_navigate;
 mod cmd_replay;
 mod cmd_run;
+mod cmd_run_rbcm;
 mod cmd_scenario;
 mod cmd_tours;
 mod render;
@@ -40,10 +41,15 @@ enum Command {
     Run {
         #[command(flatten)]
         scenario: ScenarioArg,
-        /// Exploration strategy: gtsp (the paper's), greedy (cheapest goal next) or
-        /// spatial-only (spatial goals, reactive gait).
+        /// Exploration strategy: gtsp (the paper's), greedy (cheapest goal next),
+        /// spatial-only (spatial goals, reactive gait), or rbcm-greedy (`000` Alg. 1: RBCM
+        /// cost map, frontier and median-σ goals; for a robot that feels roll, e.g. lab-track).
         #[arg(long, default_value = "gtsp")]
         strategy: String,
+        /// Gait walked throughout by rbcm-greedy (default: adaptive when the robot has it);
+        /// λ_score is the scenario's `lambda_score_<gait>`.
+        #[arg(long)]
+        gait: Option<String>,
         /// Seed of the mission and the simulator's noise.
         #[arg(long, default_value_t = 1)]
         seed: u64,
@@ -297,15 +303,17 @@ fn main() -> ExitCode {
             time_limit,
             out,
             mcap,
-        } => cmd_run::run(
-            &scenario.scenario,
-            scenario.world_seed,
-            &strategy,
+            gait,
+        } => cmd_run::run(&cmd_run::RunRequest {
+            scenario: &scenario.scenario,
+            world_seed: scenario.world_seed,
+            strategy: &strategy,
             seed,
             time_limit,
-            &out,
-            mcap.as_deref(),
-        ),
+            out: &out,
+            mcap: mcap.as_deref(),
+            gait: gait.as_deref(),
+        }),
         Command::Replay { log, config, out } => cmd_replay::run(&log, &config, &out),
         Command::Tours(args) => cmd_tours::run(&args),
         Command::Navigate(args) => cmd_navigate::run(&args),

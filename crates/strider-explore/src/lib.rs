@@ -15,6 +15,8 @@
 //! * [`energy_tours`]: `003` energy-optimal repeated tours — a zero-mean GP of motive energy
 //!   per metre learnt from the power stream, waypoints ordered by the exact TSP, re-planned
 //!   after every tour until the tour stops changing.
+//! * [`rbcm_greedy`]: the `000` explorer — RBCM of GP experts on the 5-D shape + Lab
+//!   descriptor, roll-variance cost, cost map Mcost, frontier and median-σ goals, Eq. 16.
 //! * [`navigate`]: `004` repeated start–goal navigation with a GP mixture model and a softplus
 //!   lower-confidence-bound planning cost.
 //!
@@ -28,6 +30,7 @@ pub mod mission;
 pub mod navigate;
 pub mod params;
 pub mod planner;
+pub mod rbcm_greedy;
 pub mod stats;
 
 pub use mission::{Mission, MissionError, MissionLog, MissionProgress, PhaseWall, Termination};

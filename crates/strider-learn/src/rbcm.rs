@@ -216,6 +216,33 @@ impl Rbcm {
         Ok(())
     }
 
+    /// Experts that can no longer change: all but a newest one that still has room (only the
+    /// newest expert is ever updated, decision 15). A caller may cache their predictions.
+    pub fn frozen_experts(&self) -> usize {
+        match self.experts.last() {
+            Some(e) if e.len() < self.rbcm.m_max => self.experts.len() - 1,
+            _ => self.experts.len(),
+        }
+    }
+
+    /// True when expert `i` takes part in predictions (it has at least m_min points).
+    pub fn takes_part(&self, i: usize) -> bool {
+        self.experts
+            .get(i)
+            .is_some_and(|e| e.len() >= self.rbcm.m_min.max(1))
+    }
+
+    /// The committee's combination (Eq. 7–9) of expert predictions made elsewhere, e.g. cached
+    /// predictions of frozen experts: `experts` yields (prediction, that expert's prior variance
+    /// K**_i) for exactly the experts that take part ([`Rbcm::takes_part`]). Given the same
+    /// expert predictions it equals [`Rbcm::predict`].
+    pub fn combine_predictions(
+        &self,
+        experts: impl Iterator<Item = (Prediction, f64)>,
+    ) -> Prediction {
+        self.combine(experts)
+    }
+
     /// β for one expert variance (`000` Eq. 9, clamped; 1 for the BCM), with the shared K**.
     pub fn beta(&self, expert_variance: f64) -> f64 {
         self.beta_with(self.params.kernel.prior_variance(), expert_variance)
@@ -418,5 +445,38 @@ mod tests {
             let p = r.predict(&[*x]);
             assert!((p.mean - m[j]).abs() < 1e-12 && (p.latent_variance - v[j]).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn cached_expert_predictions_combine_like_predict() {
+        let mut r = Rbcm::new(
+            1,
+            params(0.3),
+            RbcmParams {
+                m_max: 3,
+                m_min: 2,
+                variant: RbcmVariant::Robust,
+            },
+        )
+        .unwrap();
+        for k in 0..8 {
+            r.push(&[k as f64 * 0.4], (k as f64).sin()).unwrap();
+        }
+        // 8 points in experts of 3, 3, 2: the first two are frozen, the third still grows.
+        assert_eq!(r.frozen_experts(), 2);
+        assert!(r.takes_part(2) && !r.takes_part(3));
+        let x = [1.1];
+        let parts = (0..r.experts().len())
+            .filter(|&i| r.takes_part(i))
+            .map(|i| {
+                let e = &r.experts()[i];
+                (e.predict(&x), e.params().kernel.prior_variance())
+            });
+        let a = r.combine_predictions(parts);
+        let b = r.predict(&x);
+        assert!((a.mean - b.mean).abs() < 1e-12);
+        assert!((a.latent_variance - b.latent_variance).abs() < 1e-12);
+        r.push(&[9.0], 0.0).unwrap();
+        assert_eq!(r.frozen_experts(), 3);
     }
 }

@@ -9,8 +9,8 @@ use std::cmp::Ordering;
 use std::collections::HashMap;
 use strider_core::{Cell, CellRect};
 use strider_plan::grid::{
-    CostGrid, Dijkstra, all_pairs, best_gait, choose_gait, distance_transform, footprint_max,
-    path_cost, planning_grid, segment_cost, smooth_path,
+    CostGrid, Dijkstra, MeanEdgeDijkstra, all_pairs, best_gait, choose_gait, distance_transform,
+    footprint_max, path_cost, planning_grid, segment_cost, smooth_path,
 };
 
 /// f64 with a total order, as the oracle's cost type.
@@ -141,6 +141,53 @@ fn brute_footprint(g: &CostGrid, r_robot: f64, a: Cell) -> f32 {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// `000` Eq. 14 search equals the `pathfinding` oracle with the mean edge cost, is
+    /// symmetric, and its paths stay on admissible cells with legal moves adding up to the cost.
+    #[test]
+    fn mean_edge_dijkstra_matches_oracle(g in grid_strategy(9), pick in any::<prop::sample::Index>()) {
+        let cells = admissible_cells(&g);
+        prop_assume!(!cells.is_empty());
+        let src = cells[pick.index(cells.len())];
+        let mean_succ = |a: &Cell| -> Vec<(Cell, Of)> {
+            let ca = g.cost(*a).unwrap() as f64;
+            successors(&g, *a)
+                .into_iter()
+                .map(|(b, Of(w))| {
+                    let cb = g.cost(b).unwrap() as f64;
+                    (b, Of(w / ca * 0.5 * (ca + cb)))
+                })
+                .collect()
+        };
+        let oracle: HashMap<Cell, (Cell, Of)> = dijkstra_all(&src, mean_succ);
+        let mut s = MeanEdgeDijkstra::new();
+        s.run(&g, src).unwrap();
+        for c in g.rect().cells() {
+            let want = if c == src { Some(0.0) } else { oracle.get(&c).map(|x| x.1.0) };
+            let got = s.cost(c);
+            match (want, got) {
+                (None, None) => {}
+                (Some(w), Some(v)) => prop_assert!(close(w, v), "{c:?}: {w} vs {v}"),
+                _ => prop_assert!(false, "{c:?}: {want:?} vs {got:?}"),
+            }
+            if let Some(path) = s.path_to(c) {
+                prop_assert_eq!(path[0], src);
+                prop_assert_eq!(*path.last().unwrap(), c);
+                let mut total = 0.0;
+                for w in path.windows(2) {
+                    prop_assert!(g.is_admissible(w[1]));
+                    let step = mean_succ(&w[0]).into_iter().find(|(b, _)| *b == w[1]);
+                    prop_assert!(step.is_some(), "illegal move {:?} -> {:?}", w[0], w[1]);
+                    total += step.unwrap().1.0;
+                }
+                prop_assert!(close(total, got.unwrap()));
+                // Symmetric edge cost: the way back costs the same.
+                let mut back = MeanEdgeDijkstra::new();
+                back.run(&g, c).unwrap();
+                prop_assert!(close(back.cost(src).unwrap(), got.unwrap()));
+            }
+        }
+    }
 
     /// Smoothing keeps the ends, keeps a subsequence of the cheapest path, only draws segments
     /// through admissible cells (checked by sampling the segment densely, independently of the

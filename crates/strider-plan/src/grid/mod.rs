@@ -6,6 +6,7 @@
 //! * [`all_pairs`](mod@all_pairs) — parallel cost matrix between sites ([`SiteCosts`]);
 //! * [`transform`] — best-gait grid, c_loss distance transform, footprint max, gait choice;
 //! * [`smooth`] — any-angle line-of-sight smoothing of a cell path for driving;
+//! * [`mean_edge`] — Dijkstra with the symmetric mean edge cost of `000` Eq. 14;
 //! * [`lcb`] — the softplus/ReLU lower-confidence-bound cost and path of `004` Eq. 7–8
 //!   (decision 26), on the same search.
 
@@ -13,12 +14,14 @@ pub mod all_pairs;
 pub mod cost_grid;
 pub mod dijkstra;
 pub mod lcb;
+pub mod mean_edge;
 pub mod smooth;
 pub mod transform;
 
 pub use all_pairs::{SiteCosts, all_pairs};
 pub use cost_grid::{CostGrid, GridError};
 pub use dijkstra::{Dijkstra, NO_PRED, SearchError, path_cost};
+pub use mean_edge::MeanEdgeDijkstra;
 pub use smooth::{segment_cost, smooth_path};
 pub use transform::{
     BestGait, best_gait, choose_gait, choose_gait_with, distance_transform, footprint_max,

@@ -31,7 +31,7 @@ struct Entry {
     generate: fn(u64) -> Result<Scenario, ScenarioError>,
 }
 
-const ENTRIES: [Entry; 7] = [
+const ENTRIES: [Entry; 8] = [
     Entry {
         name: "courtyard-small",
         description: courtyard_small::DESCRIPTION,
@@ -46,6 +46,11 @@ const ENTRIES: [Entry; 7] = [
         name: "lab-track",
         description: lab_track::DESCRIPTION,
         generate: lab_track::generate,
+    },
+    Entry {
+        name: "lab-track-large",
+        description: lab_track::DESCRIPTION_LARGE,
+        generate: lab_track::generate_large,
     },
     Entry {
         name: "escape-arena",
@@ -69,7 +74,7 @@ const ENTRIES: [Entry; 7] = [
     },
 ];
 
-const NAMES: [&str; 7] = [
+const NAMES: [&str; 8] = [
     ENTRIES[0].name,
     ENTRIES[1].name,
     ENTRIES[2].name,
@@ -77,6 +82,7 @@ const NAMES: [&str; 7] = [
     ENTRIES[4].name,
     ENTRIES[5].name,
     ENTRIES[6].name,
+    ENTRIES[7].name,
 ];
 
 /// Names of the built-in scenarios.
