@@ -161,8 +161,48 @@ pub fn shape_lab_descriptors(
 ) -> Raster<Option<[f32; 5]>> {
     let d = map.cell_size();
     let view = View::new(map, rect, delta_desc);
-    let ab: Vec<[f32; 2]> = view
-        .color
+    let ab = lab_ab_of(&view);
+    let disc = disc_offsets(delta_desc, d);
+    fill(rect, &view, &disc, |c, v, disc_k| {
+        shape_lab_in_view(c, v, &ab, &disc, disc_k, d)
+    })
+}
+
+/// The 5-D descriptor of each of `cells` (any order, any spread): one view over their bounding
+/// rectangle, each cell's colour converted to Lab once, only the given cells evaluated (in
+/// parallel). Much cheaper than [`shape_lab_descriptor`] per cell when the cells are many.
+pub fn shape_lab_descriptors_at(
+    map: &ElevationMap,
+    cells: &[Cell],
+    delta_desc: f64,
+) -> Vec<Option<[f32; 5]>> {
+    let Some(first) = cells.first() else {
+        return Vec::new();
+    };
+    let (mut lo, mut hi) = (*first, *first);
+    for c in cells {
+        lo = Cell::new(lo.i.min(c.i), lo.j.min(c.j));
+        hi = Cell::new(hi.i.max(c.i), hi.j.max(c.j));
+    }
+    let out = CellRect::new(lo, (hi.i - lo.i + 1) as u32, (hi.j - lo.j + 1) as u32);
+    let d = map.cell_size();
+    let view = View::new(map, out, delta_desc);
+    let ab = lab_ab_of(&view);
+    let disc = disc_offsets(delta_desc, d);
+    let w = view.rect.width as isize;
+    let disc_k: Vec<isize> = disc
+        .iter()
+        .map(|&(di, dj)| dj as isize * w + di as isize)
+        .collect();
+    cells
+        .par_iter()
+        .map(|&c| shape_lab_in_view(c, &view, &ab, &disc, &disc_k, d))
+        .collect()
+}
+
+/// Lab (a, b) of every cell of a view ([0, 0] where unknown).
+fn lab_ab_of(view: &View) -> Vec<[f32; 2]> {
+    view.color
         .iter()
         .map(|c| {
             c.map_or([0.0; 2], |c| {
@@ -170,61 +210,69 @@ pub fn shape_lab_descriptors(
                 [l.a, l.b]
             })
         })
+        .collect()
+}
+
+/// Eq. 10 for cell `c` of a view (decision 7).
+fn shape_lab_in_view(
+    c: Cell,
+    v: &View,
+    ab: &[[f32; 2]],
+    disc: &[(i32, i32)],
+    disc_k: &[isize],
+    d: f64,
+) -> Option<[f32; 5]> {
+    let centre = v.rect.index(c).unwrap_or(0) as isize;
+    let mut n = 0usize;
+    let mut s = [0.0f64; 3];
+    let mut ss = [[0.0f64; 3]; 3];
+    let (mut sa, mut sb) = (0.0f64, 0.0f64);
+    let mut z_ref = f64::NAN;
+    for (&o, &(di, dj)) in disc_k.iter().zip(disc) {
+        let k = (centre + o) as usize;
+        let e = v.elev[k];
+        if e.is_nan() {
+            continue;
+        }
+        if z_ref.is_nan() {
+            z_ref = e as f64; // shift for numerical stability; covariance is unchanged
+        }
+        let p = [di as f64 * d, dj as f64 * d, e as f64 - z_ref];
+        for a in 0..3 {
+            s[a] += p[a];
+            for b in 0..3 {
+                ss[a][b] += p[a] * p[b];
+            }
+        }
+        sa += ab[k][0] as f64;
+        sb += ab[k][1] as f64;
+        n += 1;
+    }
+    if n == 0 || 2 * n < disc_k.len() {
+        return None;
+    }
+    let nf = n as f64;
+    let cov = Matrix3::from_fn(|a, b| ss[a][b] / nf - s[a] * s[b] / (nf * nf));
+    let mut lambda: Vec<f64> = SymmetricEigen::new(cov)
+        .eigenvalues
+        .iter()
+        .map(|&l| l.max(0.0))
         .collect();
-    let disc = disc_offsets(delta_desc, d);
-    fill(rect, &view, &disc, |c, v, disc_k| {
-        let centre = v.rect.index(c).unwrap_or(0) as isize;
-        let mut n = 0usize;
-        let mut s = [0.0f64; 3];
-        let mut ss = [[0.0f64; 3]; 3];
-        let (mut sa, mut sb) = (0.0f64, 0.0f64);
-        let mut z_ref = f64::NAN;
-        for (&o, &(di, dj)) in disc_k.iter().zip(&disc) {
-            let k = (centre + o) as usize;
-            let e = v.elev[k];
-            if e.is_nan() {
-                continue;
-            }
-            if z_ref.is_nan() {
-                z_ref = e as f64; // shift for numerical stability; covariance is unchanged
-            }
-            let p = [di as f64 * d, dj as f64 * d, e as f64 - z_ref];
-            for a in 0..3 {
-                s[a] += p[a];
-                for b in 0..3 {
-                    ss[a][b] += p[a] * p[b];
-                }
-            }
-            sa += ab[k][0] as f64;
-            sb += ab[k][1] as f64;
-            n += 1;
-        }
-        if n == 0 || 2 * n < disc_k.len() {
-            return None;
-        }
-        let nf = n as f64;
-        let cov = Matrix3::from_fn(|a, b| ss[a][b] / nf - s[a] * s[b] / (nf * nf));
-        let mut lambda: Vec<f64> = SymmetricEigen::new(cov)
-            .eigenvalues
-            .iter()
-            .map(|&l| l.max(0.0))
-            .collect();
-        lambda.sort_by(f64::total_cmp);
-        let (l1, l2, l3) = (lambda[0], lambda[1], lambda[2]);
-        let shape = if l3 <= LAMBDA_EPS {
-            [0.0, 0.0, 1.0]
-        } else {
-            [l1 / l3, (l2 - l1) / l3, (l3 - l2) / l3] // Eq. 10
-        };
-        let scale = |x: f64| (x / nf / 128.0).clamp(-1.0, 1.0) as f32;
-        Some([
-            shape[0] as f32,
-            shape[1] as f32,
-            shape[2] as f32,
-            scale(sa),
-            scale(sb),
-        ])
-    })
+    lambda.sort_by(f64::total_cmp);
+    let (l1, l2, l3) = (lambda[0], lambda[1], lambda[2]);
+    let shape = if l3 <= LAMBDA_EPS {
+        [0.0, 0.0, 1.0]
+    } else {
+        [l1 / l3, (l2 - l1) / l3, (l3 - l2) / l3] // Eq. 10
+    };
+    let scale = |x: f64| (x / nf / 128.0).clamp(-1.0, 1.0) as f32;
+    Some([
+        shape[0] as f32,
+        shape[1] as f32,
+        shape[2] as f32,
+        scale(sa),
+        scale(sb),
+    ])
 }
 
 /// The 5-D descriptor of one cell; `None` when fewer than half the neighbourhood is known.
@@ -297,6 +345,42 @@ mod tests {
             }
         }
         m
+    }
+
+    #[test]
+    fn descriptors_at_scattered_cells_equal_one_by_one() {
+        let mut m = map();
+        for j in -6..=6 {
+            for i in -6..=6 {
+                if (i + 2 * j) % 5 == 0 {
+                    continue; // holes
+                }
+                let z = 0.02 * ((i * i + j) % 7) as f32;
+                m.set_cell(
+                    Cell::new(i, j),
+                    z,
+                    1e-4,
+                    Rgb8::new(
+                        (40 + 13 * i.unsigned_abs()) as u8,
+                        120,
+                        (60 + 9 * j.unsigned_abs()) as u8,
+                    ),
+                );
+            }
+        }
+        let cells = [
+            Cell::new(3, -2),
+            Cell::new(-5, 5),
+            Cell::new(0, 0),
+            Cell::new(6, 6),
+            Cell::new(9, 9), // unknown surroundings
+        ];
+        let batch = shape_lab_descriptors_at(&m, &cells, 0.25);
+        for (c, b) in cells.iter().zip(&batch) {
+            assert_eq!(*b, shape_lab_descriptor(&m, *c, 0.25), "{c:?}");
+        }
+        assert!(batch[4].is_none() && batch[2].is_some());
+        assert!(shape_lab_descriptors_at(&m, &[], 0.25).is_empty());
     }
 
     #[test]

@@ -20,7 +20,7 @@ use strider_core::{Cell, CellRect, Point2};
 use strider_learn::gp::Prediction;
 use strider_learn::rbcm::Rbcm;
 use strider_map::ElevationMap;
-use strider_map::descriptors::shape_lab_descriptor;
+use strider_map::descriptors::shape_lab_descriptors_at;
 use strider_map::reachability::Reachability;
 
 /// Mcost: per-cell predicted mean μ (Eq. 11) and standard deviation σ (Eq. 12) over the
@@ -111,14 +111,15 @@ impl CostMap {
             .collect();
         out.traversable = sources.iter().map(Option::is_some).collect();
         let w = Instant::now();
-        let described: Vec<(usize, [f32; 5])> = sources
-            .par_iter()
+        let (ks, cells): (Vec<usize>, Vec<Cell>) = sources
+            .iter()
             .enumerate()
-            .filter_map(|(k, s)| {
-                let c = (*s)?;
-                let desc = shape_lab_descriptor(map, c, delta_desc)?;
-                Some((k, desc))
-            })
+            .filter_map(|(k, s)| s.map(|c| (k, c)))
+            .unzip();
+        let described: Vec<(usize, [f32; 5])> = ks
+            .into_iter()
+            .zip(shape_lab_descriptors_at(map, &cells, delta_desc))
+            .filter_map(|(k, d)| d.map(|d| (k, d)))
             .collect();
         out.descriptor_ms = w.elapsed().as_secs_f64() * 1e3;
         let prior_mean = rbcm.params().prior_mean;
