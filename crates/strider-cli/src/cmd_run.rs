@@ -36,6 +36,9 @@ pub fn run(
     out: &Path,
     mcap: Option<&Path>,
 ) -> Result<()> {
+    if strategy == "escape" || strategy == "rigid" {
+        return crate::cmd_run_escape::run(arg, world_seed, strategy, seed, time_limit, out, mcap);
+    }
     let wall = Instant::now();
     let Some(strategy) = Strategy::parse(strategy) else {
         bail!("unknown strategy {strategy:?}; expected gtsp, greedy or spatial-only");

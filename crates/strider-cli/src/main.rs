@@ -12,6 +12,7 @@ mod cmd_map;
 mod cmd_navigate;
 mod cmd_replay;
 mod cmd_run;
+mod cmd_run_escape;
 mod cmd_scenario;
 mod cmd_tours;
 mod render;
@@ -40,8 +41,9 @@ enum Command {
     Run {
         #[command(flatten)]
         scenario: ScenarioArg,
-        /// Exploration strategy: gtsp (the paper's), greedy (cheapest goal next) or
-        /// spatial-only (spatial goals, reactive gait).
+        /// Exploration strategy: gtsp (the paper's), greedy (cheapest goal next),
+        /// spatial-only (spatial goals, reactive gait), escape (thesis C4 Alg. 2: haptic
+        /// learning of pushable obstacles) or rigid (C4 baseline: apparent obstacles are rigid).
         #[arg(long, default_value = "gtsp")]
         strategy: String,
         /// Seed of the mission and the simulator's noise.
