@@ -228,3 +228,27 @@ const UNCERTAIN_UNTRAV: [u8; 3] = [240, 170, 60];
 const CERTAIN_UNTRAV: [u8; 3] = [200, 40, 40];
 const HAPTIC_TRAV: [u8; 3] = [40, 90, 230];
 const HAPTIC_UNTRAV: [u8; 3] = [120, 20, 120];
+
+/// `strider learn c4-vegetation`: the C4 §5.3 presentation-order table.
+pub fn vegetation(out: &Path) -> Result<()> {
+    use strider_cli::c4_vegetation::{VegetationParams, markdown, run};
+    let rows = run(&VegetationParams::default())?;
+    let thr =
+        strider_explore::escape::force_predictor::PredictorParams::histogram().entropy_threshold;
+    let md = format!(
+        "Test-set prediction entropy H (mean predicted force F) per terrain after each \
+         presentation; * marks H < {thr} nat (terrain known).\n\n{}",
+        markdown(&rows, thr)
+    );
+    fs::create_dir_all(out)
+        .with_context(|| format!("{}: cannot create directory", out.display()))?;
+    fs::write(out.join("c4_vegetation.md"), &md)
+        .with_context(|| format!("{}: cannot write", out.display()))?;
+    fs::write(
+        out.join("c4_vegetation.json"),
+        serde_json::to_string_pretty(&rows)?,
+    )
+    .with_context(|| format!("{}: cannot write", out.display()))?;
+    println!("{md}");
+    Ok(())
+}

@@ -110,6 +110,14 @@ enum LearnCommand {
     /// transport learned on one pass of cot-track and predicted from an aerial view, per learner ×
     /// descriptor; DIR/c1_table.md and .json).
     Bench(cmd_learn::LearnBenchArgs),
+    /// Thesis C4 §5.3 (Table 5): the GP force predictor on four outdoor terrains with the 8-bin
+    /// histogram, presented in three orders; prints the test entropies and writes
+    /// DIR/c4_vegetation.md and .json.
+    C4Vegetation {
+        /// Output directory (created if missing).
+        #[arg(long, short = 'o', default_value = "out/c4-vegetation")]
+        out: PathBuf,
+    },
 }
 
 #[derive(Subcommand, Debug)]
@@ -312,6 +320,7 @@ fn main() -> ExitCode {
         Command::Tours(args) => cmd_tours::run(&args),
         Command::Navigate(args) => cmd_navigate::run(&args),
         Command::Learn(LearnCommand::Bench(args)) => cmd_learn::bench(&args),
+        Command::Learn(LearnCommand::C4Vegetation { out }) => cmd_run_escape::vegetation(&out),
         Command::Bench(BenchCommand::Table5 {
             trials,
             large_trials,
