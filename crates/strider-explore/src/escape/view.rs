@@ -322,3 +322,111 @@ impl TravView {
         s
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::escape::goals::{GoalInputs, GoalKind, select_goal};
+    use crate::escape::haptic::HapticParams;
+    use strider_core::Rgb8;
+    use strider_map::MapParams;
+
+    /// A 2 × 2 m floor (0.05 m cells) with a 1 m high purple wall two cells thick at x ≈ 1 m.
+    fn map() -> ElevationMap {
+        let mut m = ElevationMap::new(MapParams {
+            rho_obstacle: 0.12,
+            r_robot: 0.28,
+            ..MapParams::default()
+        });
+        for j in 0..40 {
+            for i in 0..40 {
+                let wall = i == 20 || i == 21;
+                let (z, c) = if wall {
+                    (1.0, Rgb8::new(170, 60, 170))
+                } else {
+                    (0.0, Rgb8::new(120, 120, 125))
+                };
+                m.set_cell(Cell::new(i, j), z, 1e-4, c);
+            }
+        }
+        m.update_passability();
+        m
+    }
+
+    #[test]
+    fn eq4_without_and_with_haptic_ground_truth() {
+        let m = map();
+        let mut h = HapticModel::new(HapticParams::default());
+        let p = ViewParams::default();
+        let v = TravView::build(&m, &h, None, None, &p).unwrap();
+        let wall = Cell::new(20, 20);
+        let foot = Cell::new(19, 20);
+        assert!(matches!(v.obstacle(wall), Some(ObstacleState::Unpredicted)));
+        assert!(
+            v.obstacle(foot).is_none(),
+            "the foot of the step is not an apparent obstacle"
+        );
+        assert!(!v.is_traversable(wall) && !v.is_traversable(foot));
+        assert!(v.is_traversable(Cell::new(5, 5)));
+        // The wall cannot be crossed: the two halves are disconnected in the planning grid.
+        assert!(!v.grid.is_admissible(Cell::new(17, 20)));
+        // Haptic ground truth below F_trav on the whole wall opens it, foot cells included.
+        for j in 0..40 {
+            for i in [20, 21] {
+                h.fuse(Cell::new(i, j), 0.7);
+            }
+        }
+        let v = TravView::build(&m, &h, None, None, &p).unwrap();
+        assert!(v.is_traversable(wall) && v.is_traversable(foot));
+        assert!(v.grid.is_admissible(Cell::new(20, 20)));
+        assert_eq!(
+            v.cell_states(false).certain_traversable,
+            v.obstacle.iter().flatten().count()
+        );
+    }
+
+    #[test]
+    fn alg2_spatial_first_then_closest_obstacle_then_uncertain() {
+        let m = map();
+        let h = HapticModel::new(HapticParams::default());
+        let v = TravView::build(&m, &h, None, None, &ViewParams::default()).unwrap();
+        let mut dij = strider_plan::grid::Dijkstra::new();
+        dij.run(&v.grid, Cell::new(5, 20)).unwrap();
+        let spatial = vec![strider_map::SpatialGoal {
+            cell: Cell::new(5, 30),
+            centroid: Cell::new(5, 30).center(0.05),
+            information: 1.0,
+            members: 20,
+        }];
+        let mut inp = GoalInputs {
+            dist: dij.distances(),
+            spatial: &spatial,
+            learn: true,
+            predictor_learned: false,
+            entropy_threshold: 0.26,
+            r_robot: 0.28,
+            reach: 0.1,
+            excluded: &[],
+            exclusion_cells: 3.0,
+            bounds: None,
+        };
+        assert_eq!(select_goal(&v, &inp).unwrap().kind, GoalKind::Spatial);
+        inp.spatial = &[];
+        let g = select_goal(&v, &inp).unwrap();
+        assert_eq!(g.kind, GoalKind::ClosestObstacle);
+        // The nearest apparent obstacle cell is on the wall's west face, level with the robot
+        // (up to ties of the approach cost).
+        assert_eq!(g.cell.i, 20);
+        assert!((g.cell.j - 20).abs() <= 3, "{g:?}");
+        // The rigid baseline has no obstacle goals.
+        inp.learn = false;
+        assert!(select_goal(&v, &inp).is_none());
+        // A learned predictor with every obstacle below the threshold: no goal.
+        inp.learn = true;
+        inp.predictor_learned = true;
+        assert!(
+            select_goal(&v, &inp).is_none(),
+            "unpredicted cells carry no entropy"
+        );
+    }
+}
