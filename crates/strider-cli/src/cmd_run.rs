@@ -65,6 +65,12 @@ pub fn run(req: &RunRequest) -> Result<()> {
         }
         return crate::cmd_run_rbcm::run(arg, world_seed, seed, time_limit, out, gait);
     }
+    if strategy == "escape" || strategy == "rigid" {
+        if gait.is_some() {
+            bail!("--gait chooses the walking gait of rbcm-greedy; {strategy} has one gait");
+        }
+        return crate::cmd_run_escape::run(arg, world_seed, strategy, seed, time_limit, out, mcap);
+    }
     if gait.is_some() {
         bail!(
             "--gait chooses the walking gait of rbcm-greedy; the {strategy} mission chooses gaits itself"
@@ -72,7 +78,9 @@ pub fn run(req: &RunRequest) -> Result<()> {
     }
     let wall = Instant::now();
     let Some(strategy) = Strategy::parse(strategy) else {
-        bail!("unknown strategy {strategy:?}; expected gtsp, greedy, spatial-only or rbcm-greedy");
+        bail!(
+            "unknown strategy {strategy:?}; expected gtsp, greedy, spatial-only, rbcm-greedy, escape or rigid"
+        );
     };
     let sc = load(arg, world_seed)?;
     let mut params = mission_params(&sc, strategy, seed)?;

@@ -5,4 +5,6 @@
 //! mission in the simulator and drives the benchmark tours. The algorithms (map, learn, plan,
 //! explore) do not depend on this crate or on the simulator.
 
+pub mod c4_vegetation;
+pub mod escape_trial;
 pub mod trial;

@@ -12,6 +12,7 @@ mod cmd_map;
 mod cmd_navigate;
 mod cmd_replay;
 mod cmd_run;
+mod cmd_run_escape;
 mod cmd_run_rbcm;
 mod cmd_scenario;
 mod cmd_tours;
@@ -42,8 +43,10 @@ enum Command {
         #[command(flatten)]
         scenario: ScenarioArg,
         /// Exploration strategy: gtsp (the paper's), greedy (cheapest goal next),
-        /// spatial-only (spatial goals, reactive gait), or rbcm-greedy (`000` Alg. 1: RBCM
-        /// cost map, frontier and median-σ goals; for a robot that feels roll, e.g. lab-track).
+        /// spatial-only (spatial goals, reactive gait), rbcm-greedy (`000` Alg. 1: RBCM cost
+        /// map, frontier and median-σ goals; for a robot that feels roll, e.g. lab-track),
+        /// escape (thesis C4 Alg. 2: haptic learning of pushable obstacles) or rigid (C4
+        /// baseline: apparent obstacles are rigid).
         #[arg(long, default_value = "gtsp")]
         strategy: String,
         /// Gait walked throughout by rbcm-greedy (default: adaptive when the robot has it);
@@ -114,6 +117,14 @@ enum LearnCommand {
     /// transport learned on one pass of cot-track and predicted from an aerial view, per learner ×
     /// descriptor; DIR/c1_table.md and .json).
     Bench(cmd_learn::LearnBenchArgs),
+    /// Thesis C4 §5.3 (Table 5): the GP force predictor on four outdoor terrains with the 8-bin
+    /// histogram, presented in three orders; prints the test entropies and writes
+    /// DIR/c4_vegetation.md and .json.
+    C4Vegetation {
+        /// Output directory (created if missing).
+        #[arg(long, short = 'o', default_value = "out/c4-vegetation")]
+        out: PathBuf,
+    },
 }
 
 #[derive(Subcommand, Debug)]
@@ -318,6 +329,7 @@ fn main() -> ExitCode {
         Command::Tours(args) => cmd_tours::run(&args),
         Command::Navigate(args) => cmd_navigate::run(&args),
         Command::Learn(LearnCommand::Bench(args)) => cmd_learn::bench(&args),
+        Command::Learn(LearnCommand::C4Vegetation { out }) => cmd_run_escape::vegetation(&out),
         Command::Bench(BenchCommand::Table5 {
             trials,
             large_trials,

@@ -15,6 +15,7 @@
 //! * [`energy_tours`]: `003` energy-optimal repeated tours — a zero-mean GP of motive energy
 //!   per metre learnt from the power stream, waypoints ordered by the exact TSP, re-planned
 //!   after every tour until the tour stops changing.
+//! * [`escape`]: thesis C4 escape exploration with a haptic bumper and a GP force predictor.
 //! * [`rbcm_greedy`]: the `000` explorer — RBCM of GP experts on the 5-D shape + Lab
 //!   descriptor, roll-variance cost, cost map Mcost, frontier and median-σ goals, Eq. 16.
 //! * [`navigate`]: `004` repeated start–goal navigation with a GP mixture model and a softplus
@@ -25,6 +26,7 @@
 //! learned models cannot read ground truth.
 
 pub mod energy_tours;
+pub mod escape;
 pub mod evaluate;
 pub mod mission;
 pub mod navigate;

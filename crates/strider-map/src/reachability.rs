@@ -41,12 +41,43 @@ impl Reachability {
         r
     }
 
+    /// The cells reachable from `start` over the cells of a caller's admissibility raster
+    /// (`admissible`, row-major over `rect`) instead of the map's own layer: thesis C4 Eq. 4
+    /// admits apparent obstacles that were learnt to be traversable. The start cell is included
+    /// whenever it is observed, as in [`Reachability::compute`]. A raster of the wrong size
+    /// gives an empty set.
+    pub fn from_admissible(
+        map: &ElevationMap,
+        start: Cell,
+        rect: CellRect,
+        admissible: &[bool],
+    ) -> Self {
+        let mut r = Self {
+            rect,
+            start: Some(start),
+            ..Self::default()
+        };
+        if admissible.len() == rect.len() {
+            r.admissible = admissible.to_vec();
+            r.fill(map, start);
+        } else {
+            r.admissible = vec![false; rect.len()];
+            r.reach = vec![false; rect.len()];
+        }
+        r
+    }
+
     /// Recomputes in place, reusing the buffers.
     pub fn recompute(&mut self, map: &ElevationMap, start: Cell) {
         self.rect = map.known_bounds().unwrap_or(CellRect::new(start, 0, 0));
         self.start = Some(start);
         map.admissible_layer()
             .read_rect(self.rect, &mut self.admissible);
+        self.fill(map, start);
+    }
+
+    /// The flood fill from `start` over `self.admissible`.
+    fn fill(&mut self, map: &ElevationMap, start: Cell) {
         self.reach.clear();
         self.reach.resize(self.rect.len(), false);
         self.queue.clear();

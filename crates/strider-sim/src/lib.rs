@@ -30,11 +30,13 @@
 //! * [`sensor`]: RGB-D and omnidirectional sensors with depth and colour noise.
 //! * [`motion`]: path following, terrain-dependent speed, steps, pushing through obstacles.
 //! * [`proprio`]: roll process, power, vibration, bumper.
+//! * [`bumper`]: the C4 bumper's torque→force calibration (Table 4) and faults.
 //! * [`terrain`]: the terrain table resolved per gait.
 //! * [`simulator`]: the [`Simulator`] and its event loop.
 //! * [`coverage`]: coverage paths and ground-truth visibility for harnesses.
 //! * [`error`]: the error type [`SimError`].
 
+pub mod bumper;
 pub mod coverage;
 pub mod error;
 pub mod heightfield;
@@ -45,6 +47,7 @@ pub mod sensor;
 pub mod simulator;
 pub mod terrain;
 
+pub use bumper::{BumperCalibration, BumperParams};
 pub use coverage::{admissible_cells, coverage_path, visible_cells};
 pub use error::SimError;
 pub use heightfield::{Face, Heightfield, RayHit};

@@ -11,16 +11,19 @@
 //!   no distance (C1 cost of transport, `003` energy).
 //! * **Vibration** = terrain `vibration` · (1 + N(0, proprio_noise)), clamped ≥ 0, while the body
 //!   moves; 0 when it does not (`004`).
-//! * **Bumper force** (bumper robots only) = the contact force of the motion model (the obstacle's
+//! * **Bumper force** (bumper robots only): the contact force of the motion model (the obstacle's
 //!   push force while pushing through it, the robot's maximum push force against an obstacle it
-//!   cannot pass) ·
-//!   (1 + N(0, proprio_noise)), clamped ≥ 0; 0 when nothing is touched (thesis C4).
+//!   cannot pass) as the C4 bumper reports it ([`crate::bumper`]): servo torque τ = s⁻¹(F) of the
+//!   Table 4 calibration spline s, τ · (1 + N(0, proprio_noise)) clamped ≥ 0, reported as s(τ);
+//!   with the configured probabilities a reading in contact is a spike or NaN; 0 when nothing is
+//!   touched (thesis C4).
 
 use rand::RngExt;
 use rand::rngs::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use strider_core::Proprioception;
 
+use crate::bumper::BumperParams;
 use crate::motion::StepReport;
 use crate::terrain::TerrainTable;
 
@@ -29,12 +32,15 @@ use crate::terrain::TerrainTable;
 pub struct ProprioParams {
     /// Correlation time τ of the roll process, seconds.
     pub roll_correlation_s: f64,
+    /// The bumper's calibration and faults (thesis C4).
+    pub bumper: BumperParams,
 }
 
 impl Default for ProprioParams {
     fn default() -> Self {
         Self {
             roll_correlation_s: 0.1,
+            bumper: BumperParams::default(),
         }
     }
 }
@@ -107,7 +113,7 @@ impl ProprioModel {
             0.0
         };
         let bumper_force = match step.contact_force {
-            Some(f) if bumper => noisy(f),
+            Some(f) if bumper => self.bumper_reading(f, noise),
             _ => 0.0,
         };
         Proprioception {
@@ -117,5 +123,22 @@ impl ProprioModel {
             vibration,
             bumper_force,
         }
+    }
+
+    /// The bumper's report of contact force `f` (see the module docs): through the servo
+    /// torque, with multiplicative torque noise and the configured faults. The fault draws are
+    /// made only when a fault probability is set, so fault-free runs keep their noise streams.
+    fn bumper_reading(&mut self, f: f64, noise: f64) -> f64 {
+        let b = &self.params.bumper;
+        let cal = &b.calibration;
+        let e: f64 = self.rng.sample(StandardNormal);
+        let mut tau = (cal.torque(f) * (1.0 + noise * e)).max(0.0);
+        if b.nan_probability > 0.0 && self.rng.random_bool(b.nan_probability.clamp(0.0, 1.0)) {
+            return f64::NAN;
+        }
+        if b.spike_probability > 0.0 && self.rng.random_bool(b.spike_probability.clamp(0.0, 1.0)) {
+            tau = b.spike_torque_nm.max(0.0);
+        }
+        cal.force(tau).max(0.0)
     }
 }
