@@ -47,6 +47,29 @@ pub struct RunRequest<'a> {
     pub gait: Option<&'a str>,
 }
 
+/// Validates a `--time-limit` override.
+pub(crate) fn checked_time_limit(t: f64) -> Result<f64> {
+    if !(t.is_finite() && t > 0.0) {
+        bail!("--time-limit must be a positive number of seconds, got {t}");
+    }
+    Ok(t)
+}
+
+/// Creates the output directory and the progress bar of a mission of `limit_s` simulated
+/// seconds (on stderr, hidden when stderr is not a terminal).
+pub(crate) fn start_run(out: &Path, limit_s: f64) -> Result<indicatif::ProgressBar> {
+    fs::create_dir_all(out)
+        .with_context(|| format!("{}: cannot create directory", out.display()))?;
+    let bar = indicatif::ProgressBar::new(limit_s.max(1.0) as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} exploring {pos}/{len} s simulated ({elapsed}) {msg}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+    );
+    Ok(bar)
+}
+
 /// Runs `strider run`.
 pub fn run(req: &RunRequest) -> Result<()> {
     let RunRequest {
@@ -85,22 +108,9 @@ pub fn run(req: &RunRequest) -> Result<()> {
     let sc = load(arg, world_seed)?;
     let mut params = mission_params(&sc, strategy, seed)?;
     if let Some(t) = time_limit {
-        if !(t.is_finite() && t > 0.0) {
-            bail!("--time-limit must be a positive number of seconds, got {t}");
-        }
-        params.time_limit_s = t;
+        params.time_limit_s = crate::cmd_run::checked_time_limit(t)?;
     }
-    fs::create_dir_all(out)
-        .with_context(|| format!("{}: cannot create directory", out.display()))?;
-
-    // Progress on stderr (hidden when stderr is not a terminal).
-    let bar = indicatif::ProgressBar::new(params.time_limit_s.max(1.0) as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{spinner} exploring {pos}/{len} s simulated ({elapsed}) {msg}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-    );
+    let bar = crate::cmd_run::start_run(out, params.time_limit_s)?;
     let progress = |p: &strider_explore::MissionProgress| {
         bar.set_position(p.time_s as u64);
         bar.set_message(format!(

@@ -222,20 +222,9 @@ pub fn run(
     }
     let mut params = rbcm_params(&sc, gait)?;
     if let Some(t) = time_limit {
-        if !(t.is_finite() && t > 0.0) {
-            bail!("--time-limit must be a positive number of seconds, got {t}");
-        }
-        params.time_limit_s = t;
+        params.time_limit_s = crate::cmd_run::checked_time_limit(t)?;
     }
-    fs::create_dir_all(out)
-        .with_context(|| format!("{}: cannot create directory", out.display()))?;
-    let bar = indicatif::ProgressBar::new(params.time_limit_s.max(1.0) as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{spinner} exploring {pos}/{len} s simulated ({elapsed}) {msg}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-    );
+    let bar = crate::cmd_run::start_run(out, params.time_limit_s)?;
     let ex = explore(&sc, params, seed, |p| {
         bar.set_position(p.time_s as u64);
         bar.set_message(format!(

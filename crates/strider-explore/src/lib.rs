@@ -28,6 +28,7 @@
 pub mod energy_tours;
 pub mod escape;
 pub mod evaluate;
+pub mod keyframes;
 pub mod mission;
 pub mod navigate;
 pub mod params;

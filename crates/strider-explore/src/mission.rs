@@ -204,7 +204,7 @@ pub struct Mission {
     turn_window: std::collections::VecDeque<(f64, f64, f64)>,
     turn_sum: f64,
     /// Pose (x, y, yaw) of the last fused scan per sensor.
-    keyframes: Vec<Option<(f64, f64, f64)>>,
+    keyframes: crate::keyframes::Keyframes,
     /// The latest planning view (per-gait grids for Alg. 4, the merged grid for paths).
     view: Option<PlanningView>,
     /// What the view was built from: (fused scans, learning updates, cost mode).
@@ -306,7 +306,7 @@ impl Mission {
             last_pos: None,
             poses_seen: 0,
             unreachable_since: None,
-            keyframes: Vec::new(),
+            keyframes: crate::keyframes::Keyframes::default(),
             turn_window: std::collections::VecDeque::with_capacity(
                 (params.window_s * 40.0).ceil() as usize + 8,
             ),
@@ -887,33 +887,20 @@ impl SensorSink for Mission {
         }
     }
 
-    /// Keyframes: a scan is fused when the robot moved at least max(d_ν, r_sensor/50) or (for a
-    /// sensor with a limited field of view) turned at least 10° since the last fused scan of
-    /// that sensor. In a static world a scan from
-    /// (almost) the same pose adds nothing to the map; skipping it lets the simulator skip
-    /// producing it.
+    /// Scan keyframes ([`crate::keyframes`]).
     fn wants_cloud(&self, sensor: u8) -> bool {
-        let (Some(p), Some(Some(k))) = (self.pose, self.keyframes.get(sensor as usize)) else {
-            return true;
-        };
-        let dist = ((p.position.x - k.0).powi(2) + (p.position.y - k.1).powi(2)).sqrt();
-        let turn = strider_core::geom::wrap_angle(p.yaw - k.2).abs();
-        let mp = self.map.params();
-        // Turning shows an omnidirectional sensor nothing new.
-        let turned = !self.params.sees_all_around(sensor as usize) && turn >= 10f64.to_radians();
-        dist >= mp.cell_size.max(mp.r_sensor / 50.0) || turned
+        self.keyframes.wants(
+            sensor,
+            self.pose.as_ref(),
+            self.map.params(),
+            self.params.sees_all_around(sensor as usize),
+        )
     }
 
     fn on_cloud(&mut self, cloud: &PointCloud) {
         let w = Instant::now();
         self.map.integrate(cloud);
         self.log.phase_wall_s.mapping += w.elapsed().as_secs_f64();
-        if let Some(p) = self.pose {
-            let k = cloud.sensor as usize;
-            if self.keyframes.len() <= k {
-                self.keyframes.resize(k + 1, None);
-            }
-            self.keyframes[k] = Some((p.position.x, p.position.y, p.yaw));
-        }
+        self.keyframes.record(cloud.sensor, self.pose.as_ref());
     }
 }

@@ -287,7 +287,7 @@ pub struct EscapeMission {
     pose: Option<PoseStamped>,
     last_pos: Option<Point2>,
     poses_seen: u64,
-    keyframes: Vec<Option<(f64, f64, f64)>>,
+    keyframes: crate::keyframes::Keyframes,
     looking: Option<f64>,
     dij: Dijkstra,
     no_goal_since: Option<f64>,
@@ -326,7 +326,7 @@ impl EscapeMission {
             pose: None,
             last_pos: None,
             poses_seen: 0,
-            keyframes: Vec::new(),
+            keyframes: crate::keyframes::Keyframes::default(),
             looking: None,
             dij: Dijkstra::new(),
             no_goal_since: None,
@@ -883,32 +883,22 @@ impl SensorSink for EscapeMission {
         }
     }
 
-    /// Keyframes as in the `001` mission: a scan is fused after moving max(d, r_sensor/50) or
-    /// turning 10° since the sensor's last fused scan.
+    /// Scan keyframes ([`crate::keyframes`]).
     fn wants_cloud(&self, sensor: u8) -> bool {
-        let (Some(p), Some(Some(k))) = (self.pose, self.keyframes.get(sensor as usize)) else {
-            return true;
-        };
-        let dist = ((p.position.x - k.0).powi(2) + (p.position.y - k.1).powi(2)).sqrt();
-        let turn = strider_core::geom::wrap_angle(p.yaw - k.2).abs();
-        let mp = self.map.params();
-        let all_around = self
-            .params
-            .sensor_hfov_deg
-            .get(sensor as usize)
-            .is_none_or(|&f| f >= 360.0);
-        dist >= mp.cell_size.max(mp.r_sensor / 50.0) || (!all_around && turn >= 10f64.to_radians())
+        self.keyframes.wants(
+            sensor,
+            self.pose.as_ref(),
+            self.map.params(),
+            self.params
+                .sensor_hfov_deg
+                .get(sensor as usize)
+                .is_none_or(|&f| f >= 360.0),
+        )
     }
 
     fn on_cloud(&mut self, cloud: &PointCloud) {
         self.map.integrate(cloud);
-        if let Some(p) = self.pose {
-            let k = cloud.sensor as usize;
-            if self.keyframes.len() <= k {
-                self.keyframes.resize(k + 1, None);
-            }
-            self.keyframes[k] = Some((p.position.x, p.position.y, p.yaw));
-        }
+        self.keyframes.record(cloud.sensor, self.pose.as_ref());
     }
 
     /// The bumper stream: filtered, then fused into the apparent obstacle cells the bumper

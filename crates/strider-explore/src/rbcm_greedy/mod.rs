@@ -207,7 +207,7 @@ pub struct RbcmGreedy {
     goal: Option<Goal>,
     manoeuvre: Option<Manoeuvre>,
     visited: Vec<Point2>,
-    keyframes: Vec<Option<(f64, f64, f64)>>,
+    keyframes: crate::keyframes::Keyframes,
     no_cell_since: Option<f64>,
     anchor_offsets: Vec<(i32, i32)>,
     /// Mcost cells the robot was refused entry to (its motion reported *blocked*).
@@ -265,7 +265,7 @@ impl RbcmGreedy {
             goal: None,
             manoeuvre: None,
             visited: Vec::new(),
-            keyframes: Vec::new(),
+            keyframes: crate::keyframes::Keyframes::default(),
             no_cell_since: None,
             anchor_offsets: strider_core::grid::disc_offsets(
                 3.0 * params.map.r_robot,
@@ -763,29 +763,20 @@ impl SensorSink for RbcmGreedy {
     }
 
     fn wants_cloud(&self, sensor: u8) -> bool {
-        let (Some(p), Some(Some(k))) = (self.pose, self.keyframes.get(sensor as usize)) else {
-            return true;
-        };
-        let dist = (p.position.x - k.0).hypot(p.position.y - k.1);
-        let turn = strider_core::geom::wrap_angle(p.yaw - k.2).abs();
-        let mp = self.map.params();
-        let omni = self
-            .params
-            .sensor_hfov_deg
-            .get(sensor as usize)
-            .is_none_or(|&f| f >= 360.0);
-        dist >= mp.cell_size.max(mp.r_sensor / 50.0) || (!omni && turn >= 10f64.to_radians())
+        self.keyframes.wants(
+            sensor,
+            self.pose.as_ref(),
+            self.map.params(),
+            self.params
+                .sensor_hfov_deg
+                .get(sensor as usize)
+                .is_none_or(|&f| f >= 360.0),
+        )
     }
 
     fn on_cloud(&mut self, cloud: &PointCloud) {
         self.map.integrate(cloud);
-        if let Some(p) = self.pose {
-            let k = cloud.sensor as usize;
-            if self.keyframes.len() <= k {
-                self.keyframes.resize(k + 1, None);
-            }
-            self.keyframes[k] = Some((p.position.x, p.position.y, p.yaw));
-        }
+        self.keyframes.record(cloud.sensor, self.pose.as_ref());
     }
 }
 
