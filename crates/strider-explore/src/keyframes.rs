@@ -1,13 +1,43 @@
-//! Scan keyframes shared by every mission: a scan is fused when the robot moved at least
+//! Pose-stream bookkeeping shared by every mission: [`PathRecorder`] (distance walked and the
+//! 2 Hz trajectory) and [`Keyframes`]. Scan keyframes: a scan is fused when the robot moved at least
 //! max(d_ν, r_sensor/50) or (for a sensor with a limited field of view) turned at least 10° since
 //! the last fused scan of that sensor. In a static world a scan from (almost) the same pose adds
 //! nothing to the map; skipping it lets a simulator skip producing it.
 
-use strider_core::PoseStamped;
+use crate::mission::TrajectorySample;
+use strider_core::{Point2, PoseStamped};
 use strider_map::MapParams;
 
 /// Minimum turn since the last fused scan of a limited-field-of-view sensor, degrees.
 const TURN_DEG: f64 = 10.0;
+
+/// Poses between trajectory samples (20 Hz poses, a 2 Hz trajectory).
+const TRAJECTORY_EVERY: u64 = 10;
+
+/// Distance walked and the trajectory, from the pose stream.
+#[derive(Clone, Debug, Default)]
+pub struct PathRecorder {
+    last: Option<Point2>,
+    poses: u64,
+}
+
+impl PathRecorder {
+    /// Adds a pose with a finite position: the distance from the previous one and, for every
+    /// tenth pose from the first, the trajectory sample to log.
+    pub fn push(&mut self, pose: &PoseStamped) -> (f64, Option<TrajectorySample>) {
+        let p = Point2::new(pose.position.x, pose.position.y);
+        let d = self.last.map_or(0.0, |q| (p.x - q.x).hypot(p.y - q.y));
+        self.last = Some(p);
+        self.poses += 1;
+        let sample = (self.poses % TRAJECTORY_EVERY == 1).then_some(TrajectorySample {
+            t: pose.stamp,
+            x: p.x,
+            y: p.y,
+            gait: pose.gait.0,
+        });
+        (d, sample)
+    }
+}
 
 /// The pose of the last fused scan per sensor.
 #[derive(Clone, Debug, Default)]
@@ -81,5 +111,20 @@ mod tests {
             "another sensor"
         );
         assert!(k.wants(0, None, &m, false));
+    }
+
+    #[test]
+    fn path_recorder_sums_distance_and_samples_every_tenth_pose() {
+        let mut r = PathRecorder::default();
+        let mut driven = 0.0;
+        let mut traj = Vec::new();
+        for k in 0..21 {
+            let (d, s) = r.push(&pose(0.01 * k as f64, 0.0));
+            driven += d;
+            traj.extend(s);
+        }
+        assert!((driven - 0.2).abs() < 1e-12);
+        assert_eq!(traj.len(), 3); // poses 1, 11, 21
+        assert!((traj[1].x - 0.1).abs() < 1e-12);
     }
 }

@@ -197,8 +197,7 @@ pub struct Mission {
     learned_once: bool,
     spatial_once: bool,
     log: MissionLog,
-    last_pos: Option<Point2>,
-    poses_seen: u64,
+    path: crate::keyframes::PathRecorder,
     unreachable_since: Option<f64>,
     /// (stamp, yaw, |Δyaw|) over the last cost window, and the sum of |Δyaw|.
     turn_window: std::collections::VecDeque<(f64, f64, f64)>,
@@ -303,8 +302,7 @@ impl Mission {
                 gain_evaluated: 0,
                 gain_updated: 0,
             },
-            last_pos: None,
-            poses_seen: 0,
+            path: crate::keyframes::PathRecorder::default(),
             unreachable_since: None,
             keyframes: crate::keyframes::Keyframes::default(),
             turn_window: std::collections::VecDeque::with_capacity(
@@ -837,21 +835,10 @@ impl SensorSink for Mission {
         if !(pose.position.x.is_finite() && pose.position.y.is_finite()) {
             return;
         }
-        let p = Point2::new(pose.position.x, pose.position.y);
-        if let Some(q) = self.last_pos {
-            self.log.driven_m += ((p.x - q.x).powi(2) + (p.y - q.y).powi(2)).sqrt();
-        }
-        self.last_pos = Some(p);
+        let (d, sample) = self.path.push(pose);
+        self.log.driven_m += d;
+        self.log.trajectory.extend(sample);
         self.pose = Some(*pose);
-        self.poses_seen += 1;
-        if self.poses_seen % 10 == 1 {
-            self.log.trajectory.push(TrajectorySample {
-                t: pose.stamp,
-                x: p.x,
-                y: p.y,
-                gait: pose.gait.0,
-            });
-        }
         // Heading change over the cost window (|Δyaw| summed), to drop windows with turns.
         if let Some(prev) = self.turn_window.back().map(|&(_, y, _)| y) {
             let dy = strider_core::geom::wrap_angle(pose.yaw - prev).abs();

@@ -285,8 +285,7 @@ pub struct EscapeMission {
     failed: Vec<Cell>,
     current: Option<Goal>,
     pose: Option<PoseStamped>,
-    last_pos: Option<Point2>,
-    poses_seen: u64,
+    path: crate::keyframes::PathRecorder,
     keyframes: crate::keyframes::Keyframes,
     looking: Option<f64>,
     dij: Dijkstra,
@@ -324,8 +323,7 @@ impl EscapeMission {
             failed: Vec::new(),
             current: None,
             pose: None,
-            last_pos: None,
-            poses_seen: 0,
+            path: crate::keyframes::PathRecorder::default(),
             keyframes: crate::keyframes::Keyframes::default(),
             looking: None,
             dij: Dijkstra::new(),
@@ -866,21 +864,10 @@ impl SensorSink for EscapeMission {
         if !(pose.position.x.is_finite() && pose.position.y.is_finite() && pose.yaw.is_finite()) {
             return;
         }
-        let p = Point2::new(pose.position.x, pose.position.y);
-        if let Some(q) = self.last_pos {
-            self.log.driven_m += p.dist(q);
-        }
-        self.last_pos = Some(p);
+        let (d, sample) = self.path.push(pose);
+        self.log.driven_m += d;
+        self.log.trajectory.extend(sample);
         self.pose = Some(*pose);
-        self.poses_seen += 1;
-        if self.poses_seen % 10 == 1 {
-            self.log.trajectory.push(TrajectorySample {
-                t: pose.stamp,
-                x: p.x,
-                y: p.y,
-                gait: pose.gait.0,
-            });
-        }
     }
 
     /// Scan keyframes ([`crate::keyframes`]).

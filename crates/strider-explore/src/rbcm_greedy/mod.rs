@@ -199,8 +199,7 @@ pub struct RbcmGreedy {
     cost_map: CostMap,
     cache: PredictionCache,
     pose: Option<PoseStamped>,
-    last_pos: Option<Point2>,
-    poses_seen: u64,
+    path: crate::keyframes::PathRecorder,
     walking_since: Option<f64>,
     last_sample_t: f64,
     min_cost: f64,
@@ -257,8 +256,7 @@ impl RbcmGreedy {
             cost_map: CostMap::empty(params.mcost_cell),
             cache: PredictionCache::default(),
             pose: None,
-            last_pos: None,
-            poses_seen: 0,
+            path: crate::keyframes::PathRecorder::default(),
             walking_since: None,
             last_sample_t: f64::NEG_INFINITY,
             min_cost: f64::INFINITY,
@@ -715,21 +713,10 @@ impl SensorSink for RbcmGreedy {
         if !(pose.position.x.is_finite() && pose.position.y.is_finite() && pose.yaw.is_finite()) {
             return;
         }
-        let p = Point2::new(pose.position.x, pose.position.y);
-        if let Some(q) = self.last_pos {
-            self.log.driven_m += (p.x - q.x).hypot(p.y - q.y);
-        }
-        self.last_pos = Some(p);
+        let (d, sample) = self.path.push(pose);
+        self.log.driven_m += d;
+        self.log.trajectory.extend(sample);
         self.pose = Some(*pose);
-        self.poses_seen += 1;
-        if self.poses_seen % 10 == 1 {
-            self.log.trajectory.push(TrajectorySample {
-                t: pose.stamp,
-                x: p.x,
-                y: p.y,
-                gait: pose.gait.0,
-            });
-        }
         self.roll.push_pose(pose);
     }
 
