@@ -17,6 +17,7 @@
 use std::fs;
 use std::path::Path;
 use std::time::Instant;
+use strider_cli::trial::num;
 
 use anyhow::{Context, Result, bail};
 use serde_json::json;
@@ -26,7 +27,7 @@ use strider_explore::rbcm_greedy::{RbcmGreedy, RbcmGreedyLog, RbcmGreedyParams};
 use strider_learn::gp::{GpParams, HyperBounds, Kernel, KernelKind};
 use strider_learn::rbcm::{RbcmParams, RbcmVariant};
 use strider_map::rect::WorldRect;
-use strider_scenario::{Scenario, SensorKind};
+use strider_scenario::Scenario;
 use strider_sim::Simulator;
 
 use crate::cmd_run::median_max;
@@ -40,13 +41,6 @@ const HARD: [&str; 2] = ["cubes", "stairs"];
 /// Planning-time figures are reported over cycles with at least this many traversable cells
 /// (the paper's 23.2 s was at 910).
 const LARGE_MAP_CELLS: usize = 900;
-
-fn num(t: &toml::Table, k: &str, default: f64) -> f64 {
-    let v = t.get(k);
-    v.and_then(|v| v.as_float())
-        .or_else(|| v.and_then(|v| v.as_integer()).map(|i| i as f64))
-        .unwrap_or(default)
-}
 
 /// The explorer's parameters from a scenario, walking gait `gait` (default: `adaptive` when the
 /// robot has it, else its first gait).
@@ -115,15 +109,7 @@ pub fn rbcm_params(sc: &Scenario, gait: Option<&str>) -> Result<RbcmGreedyParams
         control_hz: 10.0,
         plan_hz: num(t, "plan_hz", 1.0),
         bounds: Some(WorldRect::new(b.min, b.max)),
-        sensor_hfov_deg: sc
-            .robot
-            .sensors
-            .iter()
-            .map(|s| match s.kind {
-                SensorKind::RgbD { hfov_deg, .. } => hfov_deg,
-                SensorKind::Omni { .. } => 360.0,
-            })
-            .collect(),
+        sensor_hfov_deg: strider_cli::trial::sensor_hfovs(&sc.robot),
         time_limit_s: sc.time_limit_s,
     })
 }

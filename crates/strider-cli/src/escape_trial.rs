@@ -7,26 +7,19 @@
 //! counts as explored when at least [`SECTION_EXPLORED_FRACTION`] of its cells are observed in the
 //! mission's map.
 
+use crate::trial::num;
 use anyhow::{Context, Result, bail};
 use strider_core::Cell;
 use strider_explore::escape::force_predictor::{DescriptorKind, PredictorParams};
 use strider_explore::escape::{EscapeLog, EscapeMission, EscapeMode, EscapeParams};
 use strider_map::ElevationMap;
 use strider_map::rect::WorldRect;
+use strider_scenario::Scenario;
 use strider_scenario::ground_truth::flood_fill;
-use strider_scenario::{Scenario, SensorKind};
 use strider_sim::Simulator;
 
 /// Fraction of a section's cells that must be mapped for it to count as explored.
 pub const SECTION_EXPLORED_FRACTION: f64 = 0.5;
-
-/// A number from a `[strategy]` table, or `default`.
-fn num(table: &toml::Table, key: &str, default: f64) -> f64 {
-    let v = table.get(key);
-    v.and_then(|v| v.as_float())
-        .or_else(|| v.and_then(|v| v.as_integer()).map(|i| i as f64))
-        .unwrap_or(default)
-}
 
 /// Escape-mission parameters from a scenario: the robot profile, the map and the `[strategy]`
 /// table (C4 Table 3 names: `f_trav`, `sigma_sensor_sq`, `sigma_0_sq`, `gp_noise_variance`,
@@ -40,15 +33,7 @@ pub fn escape_params(sc: &Scenario, mode: EscapeMode) -> Result<EscapeParams> {
             sc.robot.name
         );
     };
-    let hfov = sc
-        .robot
-        .sensors
-        .iter()
-        .map(|s| match s.kind {
-            SensorKind::RgbD { hfov_deg, .. } => hfov_deg,
-            SensorKind::Omni { .. } => 360.0,
-        })
-        .collect();
+    let hfov = crate::trial::sensor_hfovs(&sc.robot);
     let b = &sc.bounds;
     let mut p = EscapeParams::new(
         mode,

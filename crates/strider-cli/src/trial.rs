@@ -23,12 +23,24 @@ use strider_map::rect::WorldRect;
 use strider_scenario::{Scenario, SensorKind};
 use strider_sim::Simulator;
 
-/// A number from a `[strategy]` table, or `default`.
-fn num(table: &toml::Table, key: &str, default: f64) -> f64 {
+/// A number (float or integer) from a `[strategy]` table, or `default`.
+pub fn num(table: &toml::Table, key: &str, default: f64) -> f64 {
     let v = table.get(key);
     v.and_then(|v| v.as_float())
         .or_else(|| v.and_then(|v| v.as_integer()).map(|i| i as f64))
         .unwrap_or(default)
+}
+
+/// The horizontal field of view of each of the robot's sensors, degrees (360: omnidirectional).
+pub fn sensor_hfovs(robot: &strider_scenario::RobotProfile) -> Vec<f64> {
+    robot
+        .sensors
+        .iter()
+        .map(|s| match s.kind {
+            SensorKind::RgbD { hfov_deg, .. } => hfov_deg,
+            SensorKind::Omni { .. } => 360.0,
+        })
+        .collect()
 }
 
 /// Mission parameters from a scenario: the robot profile, the map parameters and the
@@ -51,15 +63,7 @@ pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<Mi
         );
     }
     let b = &sc.bounds;
-    let hfov = sc
-        .robot
-        .sensors
-        .iter()
-        .map(|s| match s.kind {
-            SensorKind::RgbD { hfov_deg, .. } => hfov_deg,
-            SensorKind::Omni { .. } => 360.0,
-        })
-        .collect();
+    let hfov = sensor_hfovs(&sc.robot);
     let mut p = robot_mission_params(
         sc.map.clone(),
         gaits,

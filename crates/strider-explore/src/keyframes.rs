@@ -46,16 +46,17 @@ pub struct Keyframes {
 }
 
 impl Keyframes {
-    /// Whether a scan of `sensor` taken at `pose` is worth fusing (`sees_all_around`: the sensor
-    /// is omnidirectional, so turning shows it nothing new). Without a pose or an earlier scan of
-    /// that sensor: yes.
+    /// Whether a scan of `sensor` taken at `pose` is worth fusing, given each sensor's horizontal
+    /// field of view in degrees (a sensor of ≥ 360° or not listed is omnidirectional: turning
+    /// shows it nothing new). Without a pose or an earlier scan of that sensor: yes.
     pub fn wants(
         &self,
         sensor: u8,
         pose: Option<&PoseStamped>,
         map: &MapParams,
-        sees_all_around: bool,
+        hfov_deg: &[f64],
     ) -> bool {
+        let sees_all_around = hfov_deg.get(sensor as usize).is_none_or(|&f| f >= 360.0);
         let (Some(p), Some(Some(k))) = (pose, self.last.get(sensor as usize)) else {
             return true;
         };
@@ -100,17 +101,22 @@ mod tests {
             ..MapParams::default()
         };
         let mut k = Keyframes::default();
-        assert!(k.wants(0, Some(&pose(0.0, 0.0)), &m, false));
+        let (rgbd, omni) = ([87.0, 87.0], [360.0]);
+        assert!(k.wants(0, Some(&pose(0.0, 0.0)), &m, &rgbd));
         k.record(0, Some(&pose(0.0, 0.0)));
-        assert!(!k.wants(0, Some(&pose(0.04, 0.0)), &m, false));
-        assert!(k.wants(0, Some(&pose(0.05, 0.0)), &m, false));
-        assert!(k.wants(0, Some(&pose(0.0, 0.2)), &m, false));
-        assert!(!k.wants(0, Some(&pose(0.0, 0.2)), &m, true));
+        assert!(!k.wants(0, Some(&pose(0.04, 0.0)), &m, &rgbd));
+        assert!(k.wants(0, Some(&pose(0.05, 0.0)), &m, &rgbd));
+        assert!(k.wants(0, Some(&pose(0.0, 0.2)), &m, &rgbd));
+        assert!(!k.wants(0, Some(&pose(0.0, 0.2)), &m, &omni));
         assert!(
-            k.wants(1, Some(&pose(0.0, 0.0)), &m, false),
+            !k.wants(0, Some(&pose(0.0, 0.2)), &m, &[]),
+            "unlisted: omnidirectional"
+        );
+        assert!(
+            k.wants(1, Some(&pose(0.0, 0.0)), &m, &rgbd),
             "another sensor"
         );
-        assert!(k.wants(0, None, &m, false));
+        assert!(k.wants(0, None, &m, &rgbd));
     }
 
     #[test]

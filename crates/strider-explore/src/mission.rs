@@ -880,7 +880,7 @@ impl SensorSink for Mission {
             sensor,
             self.pose.as_ref(),
             self.map.params(),
-            self.params.sees_all_around(sensor as usize),
+            &self.params.sensor_hfov_deg,
         )
     }
 

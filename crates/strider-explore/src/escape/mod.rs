@@ -529,21 +529,13 @@ impl EscapeMission {
         let goal = self.current.filter(|g| g.kind != GoalKind::Spatial);
         let clear = self.clear_radius_cells();
         let view = self.view.as_ref();
-        let pose = self.robot_pose()?;
-        let reach = self.params.view.r_robot + self.params.reflex.approach_m;
-        corridor_cells(
-            &self.map,
-            pose,
-            reach,
-            self.params.reflex.bumper_half_width,
-            self.map.params().rho_obstacle,
-        )
-        .into_iter()
-        .find(|&(c, _)| {
-            goal.is_some_and(|g| g.cell.dist_cells(c) <= clear)
-                || view.is_some_and(|v| v.is_traversable(c))
-        })
-        .map(|(c, _)| c.center(self.map.cell_size()))
+        self.approach_corridor()
+            .into_iter()
+            .find(|&(c, _)| {
+                goal.is_some_and(|g| g.cell.dist_cells(c) <= clear)
+                    || view.is_some_and(|v| v.is_traversable(c))
+            })
+            .map(|(c, _)| c.center(self.map.cell_size()))
     }
 
     fn clear_radius_cells(&self) -> f64 {
@@ -553,19 +545,22 @@ impl EscapeMission {
     /// Whether an apparent obstacle cell accepted by `accept` lies in the bumper corridor within
     /// `approach_m` of the bumper.
     fn obstacle_ahead(&self, accept: impl Fn(Cell) -> bool) -> bool {
+        self.approach_corridor().into_iter().any(|(c, _)| accept(c))
+    }
+
+    /// The apparent obstacle cells in the bumper corridor within `approach_m` of the bumper,
+    /// nearest first (empty without a pose).
+    fn approach_corridor(&self) -> Vec<(Cell, f64)> {
         let Some(pose) = self.robot_pose() else {
-            return false;
+            return Vec::new();
         };
-        let reach = self.params.view.r_robot + self.params.reflex.approach_m;
         corridor_cells(
             &self.map,
             pose,
-            reach,
+            self.params.view.r_robot + self.params.reflex.approach_m,
             self.params.reflex.bumper_half_width,
             self.map.params().rho_obstacle,
         )
-        .into_iter()
-        .any(|(c, _)| accept(c))
     }
 
     /// Alg. 2 line 5: P ← learn({(A(ν), F(ν))}).
@@ -876,10 +871,7 @@ impl SensorSink for EscapeMission {
             sensor,
             self.pose.as_ref(),
             self.map.params(),
-            self.params
-                .sensor_hfov_deg
-                .get(sensor as usize)
-                .is_none_or(|&f| f >= 360.0),
+            &self.params.sensor_hfov_deg,
         )
     }
 

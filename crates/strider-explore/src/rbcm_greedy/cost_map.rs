@@ -169,14 +169,18 @@ impl CostMap {
             }
             e.preds.truncate(frozen); // a committee never loses experts; defensive
         }
-        // Frozen experts each predict the cells that lack their prediction, in expert order.
+        // Frozen experts each predict the cells that lack their prediction, in expert order;
+        // most cells lack none, so start at the first expert some cell lacks.
+        let have: Vec<usize> = cells.iter().map(|c| cache.cells[c].preds.len()).collect();
+        let first = have.iter().copied().min().unwrap_or(frozen);
         let mut xs = Vec::new();
         let mut idx = Vec::new();
-        for (i, expert) in experts.iter().enumerate().take(frozen) {
+        for (i, expert) in experts.iter().enumerate().take(frozen).skip(first) {
             xs.clear();
             idx.clear();
-            for (j, c) in cells.iter().enumerate() {
-                if cache.cells[c].preds.len() == i {
+            for (j, &h) in have.iter().enumerate() {
+                // A cell that had h predictions gets expert i for every i ≥ h.
+                if h <= i {
                     idx.push(j);
                     xs.extend(described[j].1.iter().map(|&v| f64::from(v)));
                 }
@@ -393,5 +397,102 @@ mod tests {
             m.nearest_traversable(Cell::new(1, 0), 1),
             Some(Cell::new(0, 0))
         );
+    }
+
+    /// Cached frozen-expert predictions give exactly the committee's own prediction, across
+    /// cycles in which experts freeze and the map changes.
+    #[test]
+    fn cached_predictions_equal_direct_ones() {
+        use strider_core::Rgb8;
+        use strider_learn::gp::{GpParams, Kernel, KernelKind};
+        use strider_learn::rbcm::{RbcmParams, RbcmVariant};
+        use strider_map::MapParams;
+        let mut map = ElevationMap::new(MapParams {
+            cell_size: 0.05,
+            r_robot: 0.0,
+            ..MapParams::default()
+        });
+        let paint = |map: &mut ElevationMap, bump: f32| {
+            for j in 0..30 {
+                for i in 0..40 {
+                    let z = if i > 20 {
+                        0.01 * ((i * j) % 5) as f32 + bump
+                    } else {
+                        0.0
+                    };
+                    let col = if j > 15 {
+                        Rgb8::new(50, 150, 50)
+                    } else {
+                        Rgb8::new(140, 140, 140)
+                    };
+                    map.set_cell(Cell::new(i, j), z, 1e-4, col);
+                }
+            }
+            map.update_passability();
+        };
+        paint(&mut map, 0.0);
+        let gp = GpParams {
+            kernel: Kernel {
+                kind: KernelKind::Exponential,
+                lengthscales: vec![0.5],
+                signal_variance: 4e-4,
+            },
+            noise_variance: 2.5e-5,
+            prior_mean: 0.0,
+        };
+        let mut rbcm = Rbcm::new(
+            5,
+            gp,
+            RbcmParams {
+                m_max: 7,
+                m_min: 3,
+                variant: RbcmVariant::Robust,
+            },
+        )
+        .unwrap();
+        let mut cache = PredictionCache::default();
+        let mut k = 0;
+        for round in 0..4 {
+            // New pairs (experts freeze along the way), then a changed patch of the map.
+            for _ in 0..6 {
+                let c = Cell::new((k * 7) % 40, (k * 11) % 30);
+                if let Some(d) = shape_lab_descriptors_at(&map, &[c], 0.15)[0] {
+                    rbcm.push(&d.map(f64::from), 0.005 + 0.001 * (k % 9) as f64)
+                        .unwrap();
+                }
+                k += 1;
+            }
+            if round == 2 {
+                paint(&mut map, 0.02);
+            }
+            let reach = Reachability::compute(&map, Cell::new(5, 5));
+            let cm = CostMap::build(&map, &reach, &rbcm, &mut cache, 0.1, 0.15);
+            let fresh = CostMap::build(
+                &map,
+                &reach,
+                &rbcm,
+                &mut PredictionCache::default(),
+                0.1,
+                0.15,
+            );
+            assert!(cm.traversable_count() > 200);
+            for q in 0..cm.rect.len() {
+                assert_eq!(cm.traversable[q], fresh.traversable[q]);
+                if !cm.traversable[q] {
+                    continue;
+                }
+                assert_eq!(cm.mean[q].to_bits(), fresh.mean[q].to_bits());
+                assert_eq!(cm.std[q].to_bits(), fresh.std[q].to_bits());
+                let c = map
+                    .cell_at(cm.rect.cell(q).center(0.1).x, cm.rect.cell(q).center(0.1).y)
+                    .unwrap();
+                if let Some(d) = shape_lab_descriptors_at(&map, &[c], 0.15)[0] {
+                    let p = rbcm.predict(&d.map(f64::from));
+                    assert!((p.mean - cm.mean[q]).abs() < 1e-12);
+                    assert!((p.latent_variance.sqrt() - cm.std[q]).abs() < 1e-9);
+                }
+            }
+        }
+        assert!(rbcm.frozen_experts() >= 2);
     }
 }

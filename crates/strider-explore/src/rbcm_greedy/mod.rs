@@ -319,17 +319,30 @@ impl RbcmGreedy {
     /// final report after the exploration; planning does this every cycle).
     pub fn refresh_cost_map(&mut self) {
         if let Some(c) = self.robot_map_cell() {
-            self.map.update_passability();
-            self.reach.recompute(&self.map, c);
-            self.cost_map = CostMap::build(
-                &self.map,
-                &self.reach,
-                &self.rbcm,
-                &mut self.cache,
-                self.params.mcost_cell,
-                self.params.delta_desc,
-            );
+            self.rebuild_cost_map(c);
         }
+    }
+
+    /// Mtrv (passability, reachability from elevation-map cell `rc`) and Mcost without the
+    /// refused cells; returns the wall times of the two parts, ms.
+    fn rebuild_cost_map(&mut self, rc: Cell) -> (f64, f64) {
+        let w = Instant::now();
+        self.map.update_passability();
+        self.reach.recompute(&self.map, rc);
+        let trv_ms = ms(w);
+        let w = Instant::now();
+        self.cost_map = CostMap::build(
+            &self.map,
+            &self.reach,
+            &self.rbcm,
+            &mut self.cache,
+            self.params.mcost_cell,
+            self.params.delta_desc,
+        );
+        for &c in &self.refused {
+            self.cost_map.exclude(c);
+        }
+        (trv_ms, ms(w))
     }
 
     /// True when the committee has an expert that takes part in predictions.
@@ -474,23 +487,7 @@ impl RbcmGreedy {
                 }
             }
         }
-        let w = Instant::now();
-        self.map.update_passability();
-        self.reach.recompute(&self.map, rc);
-        let trv_ms = ms(w);
-        let w = Instant::now();
-        self.cost_map = CostMap::build(
-            &self.map,
-            &self.reach,
-            &self.rbcm,
-            &mut self.cache,
-            self.params.mcost_cell,
-            self.params.delta_desc,
-        );
-        for &c in &self.refused {
-            self.cost_map.exclude(c);
-        }
-        let inference_ms = ms(w);
+        let (trv_ms, inference_ms) = self.rebuild_cost_map(rc);
         let w = Instant::now();
         let traversable_cells = self.cost_map.traversable_count();
         let start = self
@@ -754,10 +751,7 @@ impl SensorSink for RbcmGreedy {
             sensor,
             self.pose.as_ref(),
             self.map.params(),
-            self.params
-                .sensor_hfov_deg
-                .get(sensor as usize)
-                .is_none_or(|&f| f >= 360.0),
+            &self.params.sensor_hfov_deg,
         )
     }
 

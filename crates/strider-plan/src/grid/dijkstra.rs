@@ -43,9 +43,9 @@ pub enum SearchError {
 
 /// Priority-queue entry: min-ordered by key, ties by cell index (for determinism).
 #[derive(Clone, Copy, Debug)]
-struct Entry {
-    key: f64,
-    idx: u32,
+pub(super) struct Entry {
+    pub(super) key: f64,
+    pub(super) idx: u32,
 }
 
 impl PartialEq for Entry {

@@ -9,33 +9,10 @@
 //! nothing once warm. Ties are broken by cell index, so results are deterministic.
 
 use super::cost_grid::CostGrid;
-use super::dijkstra::{NO_PRED, SearchError};
-use std::cmp::Ordering;
+use super::dijkstra::{Entry, NO_PRED, SearchError};
 use std::collections::BinaryHeap;
 use strider_core::Cell;
 use strider_core::grid::NEIGHBOURS8;
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Entry {
-    key: f64,
-    idx: u32,
-}
-
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        // Reversed: BinaryHeap is a max-heap.
-        other
-            .key
-            .total_cmp(&self.key)
-            .then_with(|| other.idx.cmp(&self.idx))
-    }
-}
 
 /// Reusable single-source search under the Eq. 14 edge cost. After [`run`](Self::run) every
 /// cell reachable from the source is settled with its exact cost.
