@@ -267,7 +267,8 @@ pub(crate) fn models_json(mission: &Mission, log: &MissionLog) -> Vec<serde_json
                 "h_gt": mission.model_updates()[g].h_gt,
                 "class_table": mission.model_updates()[g].classes.iter().map(|c| json!({
                     "id": c.id.0,
-                    "dominant_colour_bin": c.prototype.iter().enumerate()
+                    // Of the descriptor the class is predicted at (its cells' median).
+                    "dominant_colour_bin": c.median.iter().enumerate()
                         .max_by(|a, b| a.1.total_cmp(b.1)).map(|(k, _)| k),
                     "cells": c.cells,
                     "learning_cells": c.learning_cells,

@@ -17,13 +17,25 @@
 //!   of n^IGNG described cells, nearest-prototype assignment T*(ν) (Eq. 17), erosion to the
 //!   learning assignment T (Eq. 25) and dilation to the planning assignment T̂ (Eq. 26).
 //! * **Information gain** per class (Alg. 8, Eq. 23–24) from the entropy (Eq. 16) of the latent
-//!   variance at the class prototype (decision 14), with the H^GT threshold over classes holding
+//!   variance at the class's median descriptor (decision 14; see below), with the H^GT threshold over classes holding
 //!   more than m_T learning cells (decision 19).
 //! * **Goals** (Alg. 9): sampling sites on a lattice of spacing d_S, one goal per informative
 //!   class; informative classes left without a site are pruned (and blacklisted in the IGNG,
 //!   decision 17). While the model has no regressor it reports the bootstrap goal of decision 16.
 //! * **Planning costs** (Alg. 10, Eq. 18): the class prediction at the dilated class, clamped to
 //!   [1, c_max] (decision 12), c_max where no class is left.
+//!
+//! **Where a class is predicted.** `001` predicts a class at its prototype ta(T). Our IGNG
+//! prototype is the running mean of every descriptor it wins, and with colour histograms the
+//! cells along a terrain border are mixtures that the nearest prototype absorbs: on
+//! `courtyard-small` the pavement prototype of the fast gait settled at 70 % pavement, 24 %
+//! turf, where the GP interpolates between pavement (cost 1) and a stuck turf sample (20) and
+//! predicted 6.5, so the learned planner walked everything in the slow gait. The erosion of
+//! Eq. 25 exists to keep border cells out of a class, but the histogram disc (r_hist) blurs a
+//! wider band than two erosion steps remove, and a mean would still lean on it. So ta(T) in
+//! Eq. 18 and Eq. 23 is here the component-wise median descriptor of the class's cells on the
+//! eroded grid: the terrain most of the class stands on. The prototype still decides
+//! membership (Eq. 17).
 //!
 //! Costs are modelled as y − 1 with a zero-mean GP (decision 12): the GP's prior mean is 1, so an
 //! unseen terrain is predicted as easy as ideal terrain.
@@ -158,15 +170,18 @@ pub enum Insertion {
 pub struct ClassInfo {
     /// IGNG class id.
     pub id: ClassId,
-    /// Prototype ta(T).
+    /// IGNG prototype of the class.
     pub prototype: Vec<f64>,
+    /// ta(T) where the class is predicted: the component-wise median descriptor of its cells
+    /// on the eroded grid (see the module notes on Eq. 18).
+    pub median: Vec<f64>,
     /// Cells assigned to the class on the eroded grid.
     pub cells: usize,
     /// Learning cells (cells of the class with a learning pair), |T ∩ L|.
     pub learning_cells: usize,
-    /// Predicted cost at the prototype, clamped to [1, c_max].
+    /// Predicted cost at the median descriptor, clamped to [1, c_max].
     pub cost: f64,
-    /// Latent variance at the prototype.
+    /// Latent variance at the median descriptor.
     pub variance: f64,
     /// H(σ̂²(ta(T))), Eq. 16.
     pub entropy: f64,
@@ -604,7 +619,7 @@ impl GaitCostModel {
         .values;
 
         // Alg. 8: information gain per class represented on the eroded grid.
-        let mut classes = self.class_table();
+        let mut classes = self.class_table(desc);
         let h_gt = classes
             .iter()
             .filter(|c| c.learning_cells > self.params.m_t)
@@ -708,26 +723,34 @@ impl GaitCostModel {
     }
 
     /// One [`ClassInfo`] per class represented on the eroded grid, by ascending id, with the
-    /// prediction at its prototype (information gain filled in by the caller).
-    fn class_table(&self) -> Vec<ClassInfo> {
-        let mut cells: HashMap<ClassId, (usize, usize)> = HashMap::new();
+    /// prediction at its median descriptor (information gain filled in by the caller).
+    fn class_table(&self, desc: &DescriptorField) -> Vec<ClassInfo> {
+        // Per class: eroded cells, learning cells, and the descriptors of its cells.
+        let mut cells: HashMap<ClassId, (usize, usize, Vec<f64>)> = HashMap::new();
         for (k, s) in self.learn_class.iter().enumerate() {
             if let TerrainCell::Class(t) = *s {
                 let e = cells.entry(t).or_default();
                 e.0 += 1;
                 e.1 += self.learn_index.contains_key(&self.rect.cell(k)) as usize;
+                if let Some(x) = desc.get_index(k) {
+                    e.2.extend_from_slice(x);
+                }
             }
         }
         let mut ids: Vec<ClassId> = cells.keys().copied().collect();
         ids.sort_unstable();
+        let mut column = Vec::new();
         ids.into_iter()
             .filter_map(|id| {
                 let prototype = self.igng.prototype(id)?.to_vec();
-                let (cost, variance) = self.predict(&prototype);
-                let (n, l) = cells[&id];
+                let (n, l, rows) = &cells[&id];
+                let median = component_median(rows, self.dim, &mut column)?;
+                let (cost, variance) = self.predict(&median);
+                let (n, l) = (*n, *l);
                 Some(ClassInfo {
                     id,
                     prototype,
+                    median,
                     cells: n,
                     learning_cells: l,
                     cost,
@@ -822,4 +845,22 @@ impl GaitCostModel {
             })
             .collect()
     }
+}
+
+/// Component-wise median of `rows` (row-major, `dim` values per row; the lower median for an
+/// even count); `None` without rows. `column` is scratch space.
+fn component_median(rows: &[f64], dim: usize, column: &mut Vec<f64>) -> Option<Vec<f64>> {
+    let n = rows.len().checked_div(dim)?;
+    if n == 0 {
+        return None;
+    }
+    Some(
+        (0..dim)
+            .map(|k| {
+                column.clear();
+                column.extend(rows.iter().skip(k).step_by(dim));
+                *column.select_nth_unstable_by((n - 1) / 2, f64::total_cmp).1
+            })
+            .collect(),
+    )
 }
