@@ -28,6 +28,15 @@ fn rect() -> CellRect {
 /// A flat, fully observed map (every cell admissible away from the border) and one-hot 9-bin
 /// histograms by terrain.
 fn world() -> (ElevationMap, DescriptorField) {
+    flat_world(|c| {
+        let mut d = [0.0; 9];
+        d[terrain(c)] = 1.0;
+        d
+    })
+}
+
+/// A flat, fully observed map with the histogram `descriptor(c)` at every cell.
+fn flat_world(descriptor: impl Fn(Cell) -> [f64; 9]) -> (ElevationMap, DescriptorField) {
     let params = MapParams {
         cell_size: 0.05,
         r_robot: 0.05,
@@ -37,9 +46,7 @@ fn world() -> (ElevationMap, DescriptorField) {
     let mut desc = DescriptorField::empty(rect(), 9);
     for c in rect().cells() {
         map.set_cell(c, 0.0, 1e-4, Rgb8([128, 128, 128]));
-        let mut d = [0.0; 9];
-        d[terrain(c)] = 1.0;
-        assert!(desc.set(c, &d));
+        assert!(desc.set(c, &descriptor(c)));
     }
     map.update_passability();
     (map, desc)
@@ -151,27 +158,18 @@ fn unsampled_terrain_is_the_goal_and_planning_costs_follow_the_dilated_classes()
 }
 
 /// Terrain A (columns < 24, cost 1) and B (columns > 35, cost 20) meet in a wide border band
-/// whose histograms blend A into B, where the robot already gets stuck (cost 20) once a third
+/// whose histograms blend A into B, where the robot already gets stuck (cost 20) once a fifth
 /// of its disc is B. The prototype of A wins the A-heavy half of the band and drifts towards B;
 /// the class must still be predicted as A.
 #[test]
 fn a_class_is_predicted_at_its_eroded_cells_not_at_a_prototype_dragged_by_border_mixtures() {
-    let params = MapParams {
-        cell_size: 0.05,
-        r_robot: 0.05,
-        ..MapParams::default()
-    };
-    let mut map = ElevationMap::new(params);
-    let mut desc = DescriptorField::empty(rect(), 9);
     let share_b = |c: Cell| ((c.i - 23) as f64 / 13.0).clamp(0.0, 1.0);
-    for c in rect().cells() {
-        map.set_cell(c, 0.0, 1e-4, Rgb8([128, 128, 128]));
+    let (map, desc) = flat_world(|c| {
         let mut d = [0.0; 9];
         d[0] = 1.0 - share_b(c);
         d[1] = share_b(c);
-        assert!(desc.set(c, &d));
-    }
-    map.update_passability();
+        d
+    });
     let cost = |c: Cell| if share_b(c) > 0.2 { 20.0 } else { 1.0 };
     let mut model = GaitCostModel::new(GaitId(0), 9, CostModelParams::default(), 5).unwrap();
     for round in 0..4 {
