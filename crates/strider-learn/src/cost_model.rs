@@ -17,8 +17,8 @@
 //!   of n^IGNG described cells, nearest-prototype assignment T*(ν) (Eq. 17), erosion to the
 //!   learning assignment T (Eq. 25) and dilation to the planning assignment T̂ (Eq. 26).
 //! * **Information gain** per class (Alg. 8, Eq. 23–24) from the entropy (Eq. 16) of the latent
-//!   variance at the class's median descriptor (decision 14; see below), with the H^GT threshold over classes holding
-//!   more than m_T learning cells (decision 19).
+//!   variance at the class's median descriptor (decision 14; see below), with the H^GT
+//!   threshold over classes holding more than m_T learning cells (decision 19).
 //! * **Goals** (Alg. 9): sampling sites on a lattice of spacing d_S, one goal per informative
 //!   class; informative classes left without a site are pruned (and blacklisted in the IGNG,
 //!   decision 17). While the model has no regressor it reports the bootstrap goal of decision 16.
@@ -744,6 +744,7 @@ impl GaitCostModel {
             .filter_map(|id| {
                 let prototype = self.igng.prototype(id)?.to_vec();
                 let (n, l, rows) = &cells[&id];
+                // Never `None`: a cell gets a class only by classifying its descriptor.
                 let median = component_median(rows, self.dim, &mut column)?;
                 let (cost, variance) = self.predict(&median);
                 let (n, l) = (*n, *l);
