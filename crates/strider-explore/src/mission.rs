@@ -25,6 +25,7 @@ use crate::params::{MissionParams, Strategy};
 use crate::planner::{
     CostMode, GoalKey, PlanningView, TourGoal, farthest_point_subsample, nearest_where, plan_tour,
 };
+use rayon::prelude::*;
 use std::time::Instant;
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{Cell, GaitId, Point2, PointCloud, PoseStamped};
@@ -542,8 +543,15 @@ impl Mission {
         let raster = color_histograms(&self.map, rect, self.map.params().r_hist);
         self.desc = DescriptorField::from_raster(&raster);
         self.cost_goals.clear();
-        for (g, m) in self.models.iter_mut().enumerate() {
-            if let Ok(u) = m.update(&self.map, &self.desc) {
+        // The gaits' models are independent: update them side by side.
+        let (map, desc) = (&self.map, &self.desc);
+        let updates: Vec<_> = self
+            .models
+            .par_iter_mut()
+            .map(|m| m.update(map, desc))
+            .collect();
+        for (g, u) in updates.into_iter().enumerate() {
+            if let Ok(u) = u {
                 for goal in &u.goals {
                     self.cost_goals.push((g as u8, goal.clone()));
                 }

@@ -2,6 +2,7 @@
 //! cheapest paths, gait choice (Alg. 4) and the exploration tour over goal sets (Alg. 1 line 17,
 //! decision 23).
 
+use rayon::prelude::*;
 use strider_core::{Cell, CellRect, GaitId, Point2};
 use strider_learn::cost_model::GaitCostModel;
 use strider_map::ElevationMap;
@@ -58,7 +59,7 @@ impl PlanningView {
         let pass = map.passability_raster(rect);
         let adm = map.admissible_raster(rect);
         let per_gait: Vec<CostGrid> = models
-            .iter()
+            .par_iter()
             .map(|m| {
                 let mut c = match mode {
                     CostMode::Flat => vec![1.0f32; rect.len()],

@@ -301,6 +301,27 @@ proptest! {
         }
     }
 
+    /// Plateaus (a few cost levels, as the c_max band of unclassified cells makes) exercise the
+    /// pruning of plateau interiors.
+    #[test]
+    fn distance_transform_on_plateaus_matches_brute_force(
+        (w, h, levels) in (1u32..14, 1u32..14).prop_flat_map(|(w, h)| (Just(w), Just(h),
+            prop::collection::vec(prop::sample::select(vec![0usize, 0, 0, 0, 1, 1, 1, 2, 3]),
+                (w * h) as usize))),
+        c_loss in prop::sample::select(vec![0.5, 3.0, 10.0, 40.0]),
+    ) {
+        // Mostly the floor, some mid plateaus, rare high ones and obstacles, so that lower
+        // plateaus are not all buried under the cones of the highest.
+        const LEVEL: [f32; 4] = [1.0, 4.0, 20.0, f32::INFINITY];
+        let cost = levels.iter().map(|&l| LEVEL[l]).collect();
+        let g = CostGrid::new(CellRect::new(Cell::new(0, 0), w, h), 0.25, cost).unwrap();
+        let t = distance_transform(&g, c_loss).unwrap();
+        let want = brute_transform(&g, c_loss);
+        for (k, (&a, &b)) in t.costs().iter().zip(&want).enumerate() {
+            prop_assert!(a == b || (a - b).abs() <= 1e-5 * b.abs(), "cell {}: {} vs {}", k, a, b);
+        }
+    }
+
     #[test]
     fn footprint_and_gaits_match_brute_force(
         gs in (1u32..7, 1u32..7).prop_flat_map(|(w, h)| prop::collection::vec(

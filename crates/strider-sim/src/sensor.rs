@@ -63,7 +63,10 @@ impl ScanNoise {
     /// Depth standard deviation at true range `r`: sqrt(σ_d² + (k_d · r²)²) (decision 2).
     #[inline]
     pub fn depth_std(&self, r: f64) -> f64 {
-        self.depth_sigma.hypot(self.depth_k * r * r)
+        // Not `hypot`: both terms are far from overflow, and libm's hypot costs as much as the
+        // rest of a ray's noise.
+        let b = self.depth_k * r * r;
+        (self.depth_sigma * self.depth_sigma + b * b).sqrt()
     }
 }
 
@@ -338,9 +341,9 @@ fn noisy_point(
     let mut rgb = color.0;
     for ch in &mut rgb {
         let e: f64 = rng.sample(StandardNormal);
-        *ch = (*ch as f64 + noise.color_sigma * e)
-            .round()
-            .clamp(0.0, 255.0) as u8;
+        // Round half up, clamped to 0–255 by the saturating cast (NaN → 0): the same as
+        // round().clamp() for every value here, without a libm call per channel.
+        *ch = (*ch as f64 + noise.color_sigma * e + 0.5) as u8;
     }
     ColoredPoint {
         x: (origin.x + u[0] * rn) as f32,

@@ -69,8 +69,13 @@ pub fn best_gait(grids: &[CostGrid]) -> Result<BestGait, GridError> {
 /// grid minimum), so each source is scattered over that disc only. Sources are processed in
 /// decreasing cost order; a source whose current value already exceeds its own cost has been
 /// raised by a higher source ν'' with ĉ(ν'') − c_loss‖ν' − ν''‖ > ĉ(ν'), and by the triangle
-/// inequality ν'''s cone then lies above ν''s everywhere, so ν' is skipped. The result equals the
-/// O(n²) definition; the cost is Σ over undominated sources of their disc areas. (A Dijkstra-like
+/// inequality ν'''s cone then lies above ν''s everywhere, so ν' is skipped. A source whose four
+/// neighbours (those inside the grid) are all admissible with costs ≥ its own is skipped too: for
+/// any other cell q, the neighbour one step towards q is strictly closer to q and at least as
+/// high, so its cone is above ν''s at q (and at ν' itself, out already holds ĉ(ν')). This prunes
+/// the interior of every plateau, e.g. the c_max band of unclassified cells, leaving only its
+/// rim. The result equals the O(n²) definition; the cost is Σ over undominated sources of their
+/// disc areas. (A Dijkstra-like
 /// max-propagation over the 8-neighbourhood would give octile, not Euclidean, distances and
 /// overestimate the raise along off-axis directions, hence this exact scatter.)
 ///
@@ -114,9 +119,20 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
         if out[s] > cs || cs <= c_min {
             continue; // dominated, or a cone that cannot raise anything
         }
+        let (si, sj) = ((s as i64) % w, (s as i64) / w);
+        let covered = |i: i64, j: i64| {
+            // A missing neighbour is never the step towards an in-grid cell.
+            i < 0 || i >= w || j < 0 || j >= h || {
+                let c = cost[(j * w + i) as usize];
+                c.is_finite() && c as f64 >= cs
+            }
+        };
+        if covered(si - 1, sj) && covered(si + 1, sj) && covered(si, sj - 1) && covered(si, sj + 1)
+        {
+            continue; // a plateau interior: its neighbours' cones cover its own
+        }
         let r = (cs - c_min) / slope;
         let rc = r.floor() as i64;
-        let (si, sj) = ((s as i64) % w, (s as i64) / w);
         for dj in -rc..=rc {
             let j = sj + dj;
             if j < 0 || j >= h {
