@@ -84,6 +84,44 @@ fn fill<T: Send + Clone>(
     Raster { rect: out, values }
 }
 
+/// Bin counts of one disc: per bin, and the known cells.
+#[derive(Clone, Copy)]
+struct DiscCounts<const N: usize> {
+    bins: [u16; N],
+    known: u16,
+}
+
+impl<const N: usize> DiscCounts<N> {
+    #[inline]
+    fn add(&mut self, b: u8) {
+        if b != u8::MAX {
+            self.bins[b as usize] += 1;
+            self.known += 1;
+        }
+    }
+
+    #[inline]
+    fn remove(&mut self, b: u8) {
+        if b != u8::MAX {
+            self.bins[b as usize] -= 1;
+            self.known -= 1;
+        }
+    }
+
+    /// The relative histogram, `None` under the half-known rule.
+    fn histogram(&self, disc_len: usize) -> Option<[f32; N]> {
+        let known = self.known as usize;
+        if known == 0 || 2 * known < disc_len {
+            return None;
+        }
+        Some(std::array::from_fn(|b| self.bins[b] as f32 / known as f32))
+    }
+}
+
+/// The histograms of every cell of `out`, one row per parallel task. Along a row the disc's
+/// counts slide: each step removes the leftmost cell of each of its 2R + 1 row spans and adds
+/// the cell past the rightmost, 2(2R + 1) updates instead of the disc's π R² (81 → 22 for
+/// r_hist = 5 cells). This runs for the whole known map at every learning update.
 fn histograms<const N: usize>(
     map: &ElevationMap,
     out: CellRect,
@@ -97,23 +135,43 @@ fn histograms<const N: usize>(
         .map(|c| c.map_or(u8::MAX, |c| q.nearest(c) as u8))
         .collect();
     let disc = disc_offsets(r, map.cell_size());
-    fill(out, &view, &disc, |c, v, disc_k| {
-        let centre = v.rect.index(c).unwrap_or(0) as isize;
-        let mut h = [0.0f32; N];
-        let mut known = 0usize;
-        for &o in disc_k {
-            let b = bins[(centre + o) as usize];
-            if b != u8::MAX {
-                h[b as usize] += 1.0;
-                known += 1;
+    // The disc as row spans dj ↦ [−a, a] (it is symmetric and convex along rows).
+    let reach = disc.iter().map(|&(_, dj)| dj.abs()).max().unwrap_or(0);
+    let mut half = vec![-1i32; 2 * reach as usize + 1];
+    for &(di, dj) in &disc {
+        let a = &mut half[(dj + reach) as usize];
+        *a = (*a).max(di);
+    }
+    let vw = view.rect.width as isize;
+    let (ow, oh) = (out.width as usize, out.height as usize);
+    let mut values = vec![None; out.len()];
+    if ow == 0 {
+        return Raster { rect: out, values };
+    }
+    values.par_chunks_mut(ow).zip(0..oh).for_each(|(row, j)| {
+        let first = out.cell(j * ow);
+        let base = view.rect.index(first).unwrap_or(0) as isize;
+        let at = |i: isize, dj: i32| bins[(base + dj as isize * vw + i) as usize];
+        let mut counts = DiscCounts::<N> {
+            bins: [0; N],
+            known: 0,
+        };
+        for &(di, dj) in &disc {
+            counts.add(at(di as isize, dj));
+        }
+        row[0] = counts.histogram(disc.len());
+        for i in 1..ow as isize {
+            for (s, &a) in half.iter().enumerate() {
+                let dj = s as i32 - reach;
+                if a >= 0 {
+                    counts.remove(at(i - 1 - a as isize, dj));
+                    counts.add(at(i + a as isize, dj));
+                }
             }
+            row[i as usize] = counts.histogram(disc.len());
         }
-        if known == 0 || 2 * known < disc_k.len() {
-            return None;
-        }
-        h.iter_mut().for_each(|x| *x /= known as f32);
-        Some(h)
-    })
+    });
+    Raster { rect: out, values }
 }
 
 /// ta(ν) (`001` §4.2) for every cell of `rect`: 9-bin relative colour histogram within r_hist.
@@ -345,6 +403,34 @@ mod tests {
             }
         }
         m
+    }
+
+    #[test]
+    fn sliding_histograms_equal_one_disc_at_a_time() {
+        // A 1 × 1 rectangle counts its disc directly; a wide one slides the counts along rows.
+        let mut m = map();
+        let mut x = 12345u32;
+        for j in -9..=9 {
+            for i in -12..=12 {
+                x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                if x >> 29 == 0 {
+                    continue; // holes, an eighth of the cells
+                }
+                let c = x.to_le_bytes();
+                m.set_cell(Cell::new(i, j), 0.0, 1e-4, Rgb8::new(c[1], c[2], c[3]));
+            }
+        }
+        for r in [0.0, 0.1, 0.25, 0.33] {
+            let rect = CellRect::new(Cell::new(-14, -11), 29, 23);
+            let bulk = color_histograms(&m, rect, r);
+            let c4 = c4_histograms(&m, rect, r);
+            for (k, c) in rect.cells().enumerate() {
+                assert_eq!(bulk.values[k], color_histogram(&m, c, r), "r {r} {c:?}");
+                assert_eq!(c4.values[k], c4_histogram(&m, c, r), "r {r} {c:?}");
+            }
+            assert!(bulk.values.iter().any(Option::is_some));
+            assert!(bulk.values.iter().any(Option::is_none));
+        }
     }
 
     #[test]

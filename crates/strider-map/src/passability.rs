@@ -123,12 +123,14 @@ pub fn dense_admissible(
 }
 
 /// Largest cell offset of the disc of radius `r` (cell size `d`), as used by [`disc_offsets`].
+/// Computed without building the disc: it is ⌊r/d⌋, the offset (⌊r/d⌋, 0) always being inside,
+/// and 0 for the parameters [`disc_offsets`] rejects (its disc is then the centre alone). Called
+/// per information-gain update with r_sensor, whose disc has thousands of cells.
 pub(crate) fn disc_reach(r: f64, d: f64) -> u32 {
-    disc_offsets(r, d)
-        .iter()
-        .map(|&(di, dj)| di.unsigned_abs().max(dj.unsigned_abs()))
-        .max()
-        .unwrap_or(0)
+    if !(r.is_finite() && d.is_finite() && d > 0.0 && r >= 0.0) {
+        return 0;
+    }
+    (r / d).floor() as u32
 }
 
 impl ElevationMap {
@@ -185,6 +187,29 @@ impl ElevationMap {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn disc_reach_is_the_largest_offset_of_the_disc() {
+        for (r, d) in [
+            (0.0, 0.05),
+            (0.05, 0.05),
+            (0.25, 0.05),
+            (2.5, 0.05),
+            (0.3, 0.1),
+            (0.29, 0.1),
+            (1.0, 0.3),
+            (-1.0, 0.1),
+            (f64::NAN, 0.1),
+            (0.5, 0.0),
+        ] {
+            let want = disc_offsets(r, d)
+                .iter()
+                .map(|&(di, dj)| di.unsigned_abs().max(dj.unsigned_abs()))
+                .max()
+                .unwrap_or(0);
+            assert_eq!(disc_reach(r, d), want, "r {r} d {d}");
+        }
+    }
 
     #[test]
     fn hand_made_step() {

@@ -50,7 +50,17 @@ pub struct Heightfield {
     elevation: Vec<f64>,
     /// Highest finite elevation (−∞ when there is none).
     max_elevation: f64,
+    /// Highest finite elevation per [`BLOCK`] × [`BLOCK`] block of cells (row-major, the last
+    /// row and column of blocks possibly partial), for skipping empty space.
+    block_max: Vec<f64>,
+    /// Blocks per row.
+    blocks_w: usize,
 }
+
+/// Side of the blocks of [`Heightfield`]'s coarse maximum, cells. A ray passing above a block's
+/// highest column crosses the block in one step instead of up to 2·BLOCK cell steps: over
+/// open ground most of a camera's rays fly above the terrain for most of their length.
+const BLOCK: i64 = 8;
 
 /// Tolerance of [`Heightfield::visible`], metres: a blocking hit this close to the target counts
 /// as the target itself.
@@ -83,12 +93,30 @@ impl Heightfield {
             })
             .collect();
         let max_elevation = elevation.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let (w, h) = (rect.width as usize, rect.height as usize);
+        let b = BLOCK as usize;
+        let blocks_w = w.div_ceil(b);
+        let mut block_max = vec![f64::NEG_INFINITY; blocks_w * h.div_ceil(b)];
+        for (k, &z) in elevation.iter().enumerate() {
+            let m = &mut block_max[(k / w) / b * blocks_w + (k % w) / b];
+            *m = m.max(z);
+        }
         Ok(Self {
             resolution,
             rect,
             elevation,
             max_elevation,
+            block_max,
+            blocks_w,
         })
+    }
+
+    /// The same heightfield with block skipping turned off: every ray then steps through every
+    /// cell it crosses. A reference for tests of the skipping.
+    #[doc(hidden)]
+    pub fn without_block_skipping(mut self) -> Self {
+        self.block_max.fill(f64::INFINITY);
+        self
     }
 
     /// The heightfield of a world's elevation layer.
@@ -145,19 +173,23 @@ impl Heightfield {
         // Local coordinates: the world rectangle spans [0, W] × [0, H].
         let (ox, oy, oz) = (origin.x - x0, origin.y - y0, origin.z);
         let (ux, uy, uz) = (u[0], u[1], u[2]);
+        // Reciprocals once: a camera ray is short over flat ground, so the per-ray divisions
+        // cost more than its cell steps. (±∞ for a zero component, never used: every use below
+        // is guarded by a `!= 0` test.)
+        let (rx, ry) = (1.0 / ux, 1.0 / uy);
         let (ww, hh) = (w as f64 * d, h as f64 * d);
 
         // Clip the horizontal projection to the rectangle (slab method), remembering the slab
         // entry times to know which border an outside ray enters through.
         let mut t1 = max_range;
         let mut enter = [f64::NEG_INFINITY; 2];
-        for (a, (o, v, extent)) in [(ox, ux, ww), (oy, uy, hh)].into_iter().enumerate() {
+        for (a, (o, v, r, extent)) in [(ox, ux, rx, ww), (oy, uy, ry, hh)].into_iter().enumerate() {
             if v == 0.0 {
                 if o < 0.0 || o >= extent {
                     return None;
                 }
             } else {
-                let (ta, tb) = ((0.0 - o) / v, (extent - o) / v);
+                let (ta, tb) = ((0.0 - o) * r, (extent - o) * r);
                 enter[a] = ta.min(tb);
                 t1 = t1.min(ta.max(tb));
             }
@@ -183,16 +215,8 @@ impl Heightfield {
         }
 
         // The first cell: the one the ray is inside just after t0.
-        let start_index = |o: f64, v: f64, n: i64| -> i64 {
-            let p = o + v * t0;
-            let mut k = (p / d).floor() as i64;
-            if v < 0.0 && k as f64 * d == p {
-                k -= 1;
-            }
-            k.clamp(0, n - 1)
-        };
-        let mut ix = start_index(ox, ux, w);
-        let mut iy = start_index(oy, uy, h);
+        let mut ix = start_index_at(ox, ux, t0, d, w);
+        let mut iy = start_index_at(oy, uy, t0, d, h);
         let (sx, sy): (i64, i64) = (if ux > 0.0 { 1 } else { -1 }, if uy > 0.0 { 1 } else { -1 });
         let boundary = |k: i64, s: i64| {
             if s > 0 {
@@ -202,22 +226,22 @@ impl Heightfield {
             }
         };
         let mut tx = if ux != 0.0 {
-            (boundary(ix, sx) - ox) / ux
+            (boundary(ix, sx) - ox) * rx
         } else {
             f64::INFINITY
         };
         let mut ty = if uy != 0.0 {
-            (boundary(iy, sy) - oy) / uy
+            (boundary(iy, sy) - oy) * ry
         } else {
             f64::INFINITY
         };
         let tdx = if ux != 0.0 {
-            d / ux.abs()
+            d * rx.abs()
         } else {
             f64::INFINITY
         };
         let tdy = if uy != 0.0 {
-            d / uy.abs()
+            d * ry.abs()
         } else {
             f64::INFINITY
         };
@@ -240,7 +264,76 @@ impl Heightfield {
         };
         let mut t_in = t0;
         let zmax = self.max_elevation;
+        let mut block = (-1, -1);
         loop {
+            // Entering a new block: if the ray stays above its highest column until it leaves
+            // the block, jump to the first cell past the block.
+            if (ix / BLOCK, iy / BLOCK) != block {
+                block = (ix / BLOCK, iy / BLOCK);
+                let bmax = self.block_max[block.1 as usize * self.blocks_w + block.0 as usize];
+                let exit_time = |b: i64, o: f64, v: f64, r: f64| {
+                    let edge = if v > 0.0 { (b + 1) * BLOCK } else { b * BLOCK };
+                    if v != 0.0 {
+                        (edge as f64 * d - o) * r
+                    } else {
+                        f64::INFINITY
+                    }
+                };
+                let (tbx, tby) = (
+                    exit_time(block.0, ox, ux, rx),
+                    exit_time(block.1, oy, uy, ry),
+                );
+                let t_exit = tbx.min(tby).min(t1);
+                let z_low = oz + uz * if uz < 0.0 { t_exit } else { t_in };
+                if z_low > bmax {
+                    if t_exit >= t1 || (uz >= 0.0 && oz + uz * t_in >= zmax) {
+                        return None;
+                    }
+                    // Step out through the face the ray leaves by (x on a tie, as the cell
+                    // traversal does); the other index follows the exit point.
+                    t_in = t_exit;
+                    if tbx <= tby {
+                        ix = if sx > 0 {
+                            (block.0 + 1) * BLOCK
+                        } else {
+                            block.0 * BLOCK - 1
+                        };
+                        if ix < 0 || ix >= w {
+                            return None;
+                        }
+                        iy = start_index_at(oy, uy, t_in, d, h).clamp(
+                            (block.1 * BLOCK).min(h - 1),
+                            ((block.1 + 1) * BLOCK - 1).min(h - 1),
+                        );
+                        entry = Entry::X(boundary(ix - sx, sx));
+                    } else {
+                        iy = if sy > 0 {
+                            (block.1 + 1) * BLOCK
+                        } else {
+                            block.1 * BLOCK - 1
+                        };
+                        if iy < 0 || iy >= h {
+                            return None;
+                        }
+                        ix = start_index_at(ox, ux, t_in, d, w).clamp(
+                            (block.0 * BLOCK).min(w - 1),
+                            ((block.0 + 1) * BLOCK - 1).min(w - 1),
+                        );
+                        entry = Entry::Y(boundary(iy - sy, sy));
+                    }
+                    tx = if ux != 0.0 {
+                        (boundary(ix, sx) - ox) * rx
+                    } else {
+                        f64::INFINITY
+                    };
+                    ty = if uy != 0.0 {
+                        (boundary(iy, sy) - oy) * ry
+                    } else {
+                        f64::INFINITY
+                    };
+                    continue;
+                }
+            }
             let k = (iy * w + ix) as usize;
             let top = self.elevation[k];
             let t_out = tx.min(ty).min(t1);
@@ -320,4 +413,22 @@ impl Heightfield {
             Some(hit) => hit.range >= dist - VISIBILITY_TOLERANCE_M,
         }
     }
+}
+
+/// The index along one axis of the cell a ray (local coordinate `o`, direction component `v`)
+/// is inside just after distance `t`, clamped to `0..n`: a point exactly on a boundary belongs
+/// to the cell the ray moves into.
+#[inline]
+fn start_index_at(o: f64, v: f64, t: f64, d: f64, n: i64) -> i64 {
+    let p = o + v * t;
+    // floor() by truncation: without SSE4.1 in the baseline target, f64::floor is a libm call.
+    let q = p / d;
+    let mut k = q as i64;
+    if k as f64 > q {
+        k -= 1;
+    }
+    if v < 0.0 && k as f64 * d == p {
+        k -= 1;
+    }
+    k.clamp(0, n - 1)
 }

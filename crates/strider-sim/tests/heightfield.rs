@@ -183,3 +183,46 @@ fn matches_brute_force_on_rough_terrain() {
         }
     }
 }
+
+/// Mostly flat ground with sparse tall spikes and a few holes, on a grid many blocks wide: rays
+/// cross many blocks above their maxima (the skipping path) and must meet the same face of the
+/// same cell at the same range as when stepping through every cell. (Brute-force marching is
+/// no reference here: low rays over flat ground graze cell edges finer than its step.)
+#[test]
+fn block_skipping_equals_cell_by_cell_traversal() {
+    let mut w = flat_world(83, 77, 0.05);
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for z in &mut w.elevation {
+        let u: f64 = rng.random_range(0.0..1.0);
+        *z = if u < 0.01 {
+            rng.random_range(0.1..0.6)
+        } else if u < 0.015 {
+            f32::NAN
+        } else {
+            rng.random_range(0.0..0.02)
+        };
+    }
+    let hf = Heightfield::from_world(&w).unwrap();
+    let reference = hf.clone().without_block_skipping();
+    let (mut hits, mut misses) = (0, 0);
+    for _ in 0..20_000 {
+        let o = Point3::new(
+            rng.random_range(-0.5..4.6),
+            rng.random_range(-0.5..4.3),
+            rng.random_range(0.05..0.5),
+        );
+        let a: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+        let e: f64 = rng.random_range(-0.5..0.2);
+        let u = [e.cos() * a.cos(), e.cos() * a.sin(), e.sin()];
+        match (hf.cast(o, u, 3.0), reference.cast(o, u, 3.0)) {
+            (Some(g), Some(r)) => {
+                hits += 1;
+                assert!((g.range - r.range).abs() < 1e-9, "{g:?} vs {r:?}");
+                assert_eq!((g.cell, g.face), (r.cell, r.face));
+            }
+            (None, None) => misses += 1,
+            (g, r) => panic!("{g:?} vs {r:?}: o {o:?} u {u:?}"),
+        }
+    }
+    assert!(hits > 5000 && misses > 1000, "{hits} hits, {misses} misses");
+}
