@@ -47,7 +47,9 @@ use crate::descriptor_field::DescriptorField;
 use crate::gp::{Gp, GpError, GpParams, Kernel, KernelKind, differential_entropy};
 use crate::igng::{ClassId, Igng, IgngParams};
 use crate::morphology::{self, TerrainCell};
-use std::collections::HashMap;
+// Fx, not SipHash: the maps are keyed by cells and class ids (no untrusted keys), and their
+// lookups run per cell of the map at every learning update.
+use rustc_hash::FxHashMap as HashMap;
 use strider_core::{Cell, CellRect, GaitId, Point2};
 use strider_map::ElevationMap;
 use strider_map::descriptors::Raster;
@@ -277,18 +279,18 @@ impl GaitCostModel {
         Ok(Self {
             gait,
             dim,
-            costs: HashMap::new(),
+            costs: HashMap::default(),
             measured: Vec::new(),
             gp,
             learn_cells: Vec::new(),
-            learn_index: HashMap::new(),
+            learn_index: HashMap::default(),
             igng,
             rect: CellRect::new(Cell::new(0, 0), 0, 0),
             learn_class: Vec::new(),
             plan_class: Vec::new(),
-            class_gain: HashMap::new(),
-            novelty_cache: HashMap::new(),
-            class_cost: HashMap::new(),
+            class_gain: HashMap::default(),
+            novelty_cache: HashMap::default(),
+            class_cost: HashMap::default(),
             rejected_costs: 0,
             cell_size: 0.05,
             params,
@@ -726,7 +728,7 @@ impl GaitCostModel {
     /// prediction at its median descriptor (information gain filled in by the caller).
     fn class_table(&self, desc: &DescriptorField) -> Vec<ClassInfo> {
         // Per class: eroded cells, learning cells, and the descriptors of its cells.
-        let mut cells: HashMap<ClassId, (usize, usize, Vec<f64>)> = HashMap::new();
+        let mut cells: HashMap<ClassId, (usize, usize, Vec<f64>)> = HashMap::default();
         for (k, s) in self.learn_class.iter().enumerate() {
             if let TerrainCell::Class(t) = *s {
                 let e = cells.entry(t).or_default();

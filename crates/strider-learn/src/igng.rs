@@ -237,6 +237,10 @@ pub struct Igng {
     rng: ChaCha8Rng,
     rejected: u64,
     removed: usize,
+    /// Reused buffers of one adaptation step (a batch is thousands of steps): the moved
+    /// prototype of [`Self::warp`] and the winner's neighbours.
+    scratch_w: Vec<f64>,
+    scratch_ids: Vec<ClassId>,
 }
 
 fn edge_key(a: ClassId, b: ClassId) -> (ClassId, ClassId) {
@@ -264,6 +268,8 @@ impl Igng {
             rng: ChaCha8Rng::seed_from_u64(seed),
             rejected: 0,
             removed: 0,
+            scratch_w: Vec::with_capacity(dim),
+            scratch_ids: Vec::new(),
         })
     }
 
@@ -529,7 +535,9 @@ impl Igng {
         }
         // Lines 11–14.
         self.warp(i1, x, self.params.eps_winner);
-        let nbs: Vec<ClassId> = self.neighbours(id1).collect();
+        let mut nbs = std::mem::take(&mut self.scratch_ids);
+        nbs.clear();
+        nbs.extend(self.neighbours(id1));
         for &nb in &nbs {
             if let Some(j) = self.index_of(nb) {
                 self.warp(j, x, self.params.eps_neighbour);
@@ -542,14 +550,18 @@ impl Igng {
         if let Some((i2, _)) = second_close {
             let id2 = self.neurons[i2].id;
             self.edges.insert(edge_key(id1, id2), 0);
+            // The neighbours now: those of lines 11–14 (no edge was removed since) and ω₂.
+            if !nbs.contains(&id2) {
+                nbs.push(id2);
+            }
         }
         // Lines 19–20.
-        let nbs: Vec<ClassId> = self.neighbours(id1).collect();
-        for nb in nbs {
+        for &nb in &nbs {
             if let Some(j) = self.index_of(nb) {
                 self.neurons[j].age = self.neurons[j].age.saturating_add(1);
             }
         }
+        self.scratch_ids = nbs;
         // Lines 21–25.
         let age_max = self.params.age_max;
         self.edges.retain(|_, &mut age| age <= age_max);
@@ -580,24 +592,26 @@ impl Igng {
         if eps == 0.0 {
             return;
         }
-        let moved: Vec<f64> = self.neurons[i]
-            .w
-            .iter()
-            .zip(x)
-            .map(|(w, xv)| w + eps * (xv - w))
-            .collect();
-        if self.params.insertion == InsertionRule::Separated {
+        let mut moved = std::mem::take(&mut self.scratch_w);
+        moved.clear();
+        moved.extend(
+            self.neurons[i]
+                .w
+                .iter()
+                .zip(x)
+                .map(|(w, xv)| w + eps * (xv - w)),
+        );
+        let clash = self.params.insertion == InsertionRule::Separated && {
             let s2 = self.params.sigma * self.params.sigma;
-            let clash = self
-                .neurons
+            self.neurons
                 .iter()
                 .enumerate()
-                .any(|(j, n)| j != i && dist2(&n.w, &moved) < s2);
-            if clash {
-                return;
-            }
+                .any(|(j, n)| j != i && dist2(&n.w, &moved) < s2)
+        };
+        if !clash {
+            self.neurons[i].w.copy_from_slice(&moved);
         }
-        self.neurons[i].w.copy_from_slice(&moved);
+        self.scratch_w = moved;
     }
 }
 
