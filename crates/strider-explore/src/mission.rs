@@ -209,6 +209,8 @@ pub struct Mission {
     view: Option<PlanningView>,
     /// What the view was built from: (fused scans, learning updates, cost mode).
     view_key: Option<(u64, u64, CostMode)>,
+    /// What the spatial goals were computed from: scans fused, anchor cell, visited goals.
+    spatial_key: Option<(u64, Option<Cell>, usize)>,
     /// Learning updates so far.
     learn_generation: u64,
     /// Offsets of the 3·r_robot disc the anchor cell is searched in (nearest first).
@@ -318,6 +320,7 @@ impl Mission {
             looking: None,
             view: None,
             view_key: None,
+            spatial_key: None,
             learn_generation: 0,
             anchor_offsets: strider_core::grid::disc_offsets(
                 3.0 * params.map.r_robot,
@@ -511,11 +514,22 @@ impl Mission {
     }
 
     /// Alg. 2 lines 3–5: passability, information gain, spatial goals (Alg. 3).
+    ///
+    /// The goals are a function of the map, the anchor cell and the visited goals only; when
+    /// none of them changed since the last run (no scan fused: a slow gait moves less than a
+    /// keyframe step between runs) the previous goals stand and nothing is recomputed (nor
+    /// logged as a goal-identification time).
     fn update_spatial(&mut self) {
         let w = Instant::now();
         self.map.update_passability();
+        let anchor = self.anchor_cell();
+        let key = (self.map.scan_count(), anchor, self.visited.len());
+        if self.spatial_key == Some(key) {
+            return;
+        }
+        self.spatial_key = Some(key);
         self.spatial.clear();
-        if let Some(c) = self.anchor_cell() {
+        if let Some(c) = anchor {
             let reach = Reachability::compute(&self.map, c);
             let bounds = self.params.bounds;
             let gain = self.gain.compute(&self.map, &reach, bounds.as_ref());
