@@ -120,8 +120,8 @@ fn run_task(task: &Task, time_limit: Option<f64>, mcap_dir: Option<&Path>) -> Re
         strategy: task.strategy.name().to_string(),
         world_seed: task.world_seed,
         seed: task.seed,
-        termination: format!("{:?}", log.termination),
-        exploration_time_s: log.exploration_time_s,
+        termination: format!("{:?}", log.run.termination),
+        exploration_time_s: log.run.exploration_time_s,
         observed_cells: mission.map().observed_count(),
         tours: tours
             .iter()

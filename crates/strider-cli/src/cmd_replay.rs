@@ -92,10 +92,10 @@ pub fn run(log_path: &Path, config: &Path, out: &Path) -> Result<()> {
         "scenario": cfg.mission.scenario,
         "seed": cfg.mission.seed,
         "strategy": "replay",
-        "termination": format!("{:?}", log.termination),
-        "exploration_time_s": log.exploration_time_s,
+        "termination": format!("{:?}", log.run.termination),
+        "exploration_time_s": log.run.exploration_time_s,
         "log_duration_s": replay.duration_s(),
-        "driven_m": log.driven_m,
+        "driven_m": log.run.driven_m,
         "observed_cells": mission.map().observed_count(),
         "scans_fused": mission.map().scan_count(),
         "replay": {
@@ -117,18 +117,18 @@ pub fn run(log_path: &Path, config: &Path, out: &Path) -> Result<()> {
         "goal_identification_ms": {
             "learning": {"median": le_med, "max": le_max},
         },
-        "mission_wall_s": log.wall_s,
-        "speedup": log.exploration_time_s / log.wall_s.max(1e-9),
+        "mission_wall_s": log.run.wall_s,
+        "speedup": log.run.exploration_time_s / log.run.wall_s.max(1e-9),
         "wall_time_s": wall_s,
-        "trajectory": log.trajectory,
+        "trajectory": log.run.trajectory,
     });
     let path = write_reports(out, &report, &mission, &[])?;
     println!(
         "{}: {:.0} s of log replayed in {:.1} s ({:.0}x real time): {} cells mapped from {} of {} scans, {} poses, {} cost samples -> {}",
         log_path.display(),
-        log.exploration_time_s,
-        log.wall_s,
-        log.exploration_time_s / log.wall_s.max(1e-9),
+        log.run.exploration_time_s,
+        log.run.wall_s,
+        log.run.exploration_time_s / log.run.wall_s.max(1e-9),
         mission.map().observed_count(),
         stats.clouds_delivered,
         stats.clouds,

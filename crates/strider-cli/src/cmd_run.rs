@@ -166,9 +166,9 @@ pub fn run(req: &RunRequest) -> Result<()> {
         "world_seed": world_seed,
         "seed": seed,
         "strategy": strategy.name(),
-        "termination": format!("{:?}", log.termination),
-        "exploration_time_s": log.exploration_time_s,
-        "driven_m": log.driven_m,
+        "termination": format!("{:?}", log.run.termination),
+        "exploration_time_s": log.run.exploration_time_s,
+        "driven_m": log.run.driven_m,
         "observed_cells": mission.map().observed_count(),
         "scans_fused": mission.map().scan_count(),
         "phase_wall_s": log.phase_wall_s,
@@ -189,23 +189,23 @@ pub fn run(req: &RunRequest) -> Result<()> {
             "spatial": {"median": sp_med, "max": sp_max},
             "learning": {"median": le_med, "max": le_max},
         },
-        "mission_wall_s": log.wall_s,
-        "speedup": log.exploration_time_s / log.wall_s.max(1e-9),
+        "mission_wall_s": log.run.wall_s,
+        "speedup": log.run.exploration_time_s / log.run.wall_s.max(1e-9),
         "wall_time_s": wall_s,
-        "trajectory": log.trajectory,
+        "trajectory": log.run.trajectory,
     });
     let path = write_reports(out, &report, &mission, &tours)?;
     println!(
         "{} ({}): {:?} after {:.0} s simulated, {:.1} m driven, {} replans (median {:.1} ms, max {:.1} ms), {:.0}x real time, {:.1} s wall -> {}",
         sc.name,
         strategy.name(),
-        log.termination,
-        log.exploration_time_s,
-        log.driven_m,
+        log.run.termination,
+        log.run.exploration_time_s,
+        log.run.driven_m,
         log.replan_ms.len(),
         rep_med,
         rep_max,
-        log.exploration_time_s / log.wall_s.max(1e-9),
+        log.run.exploration_time_s / log.run.wall_s.max(1e-9),
         wall_s,
         path.display()
     );
@@ -394,6 +394,7 @@ pub(crate) fn write_figures(
     }
     let mut path = rgb_canvas(rect, d, scale, &colors);
     let pts: Vec<Point2> = log
+        .run
         .trajectory
         .iter()
         .map(|s| Point2::new(s.x, s.y))

@@ -81,9 +81,9 @@ pub fn run(
         "world_seed": world_seed,
         "seed": seed,
         "strategy": mode.name(),
-        "termination": format!("{:?}", log.termination),
-        "exploration_time_s": log.exploration_time_s,
-        "driven_m": log.driven_m,
+        "termination": format!("{:?}", log.run.termination),
+        "exploration_time_s": log.run.exploration_time_s,
+        "driven_m": log.run.driven_m,
         "observed_cells": trial.mission.map().observed_count(),
         "sections_explored": trial.sections_explored(),
         "section_explored_fraction": SECTION_EXPLORED_FRACTION,
@@ -104,9 +104,9 @@ pub fn run(
             })
         }).collect::<Vec<_>>(),
         "predictor_training_set": trial.mission.predictor().len(),
-        "mission_wall_s": log.wall_s,
+        "mission_wall_s": log.run.wall_s,
         "wall_time_s": wall_s,
-        "trajectory": log.trajectory,
+        "trajectory": log.run.trajectory,
     });
     let path = out.join("report.json");
     fs::write(&path, serde_json::to_string_pretty(&report)?)
@@ -115,9 +115,9 @@ pub fn run(
         "{} ({}): {:?} after {:.0} s simulated, {:.1} m driven, {}/{} sections explored, {} contacts ({} corrected), {:.1} s wall -> {}",
         sc.name,
         mode.name(),
-        log.termination,
-        log.exploration_time_s,
-        log.driven_m,
+        log.run.termination,
+        log.run.exploration_time_s,
+        log.run.driven_m,
         trial.sections_explored(),
         trial.sections.len(),
         log.contacts.len(),
@@ -200,6 +200,7 @@ fn write_figures(mission: &EscapeMission, log: &EscapeLog, out: &Path) -> Result
             })
         });
         let pts: Vec<strider_core::Point2> = log
+            .run
             .trajectory
             .iter()
             .map(|s| strider_core::Point2::new(s.x, s.y))

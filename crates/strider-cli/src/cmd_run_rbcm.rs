@@ -232,10 +232,10 @@ pub fn run(
         sc.name,
         report["gait"].as_str().unwrap_or("?"),
         ex.params().lambda_score,
-        log.termination,
-        log.exploration_time_s,
+        log.run.termination,
+        log.run.exploration_time_s,
         wall.elapsed().as_secs_f64(),
-        log.driven_m,
+        log.run.driven_m,
         ex.rbcm().len(),
         ex.rbcm().experts().len(),
         if learned { "yes" } else { "no" },
@@ -318,10 +318,10 @@ fn report_json(
         "strategy": "rbcm-greedy",
         "gait": sc.robot.gaits[ex.params().gait.0 as usize].name,
         "lambda_score": ex.params().lambda_score,
-        "termination": format!("{:?}", log.termination),
-        "terminated": log.termination == Termination::GoalsCleared,
-        "exploration_time_s": log.exploration_time_s,
-        "driven_m": log.driven_m,
+        "termination": format!("{:?}", log.run.termination),
+        "terminated": log.run.termination == Termination::GoalsCleared,
+        "exploration_time_s": log.run.exploration_time_s,
+        "driven_m": log.run.driven_m,
         "observed_cells": ex.map().observed_count(),
         "terrains_learned": learned,
         "terrains": terrains,
@@ -343,8 +343,8 @@ fn report_json(
         },
         "plans": log.plans,
         "samples": log.samples,
-        "trajectory": log.trajectory,
-        "mission_wall_s": log.wall_s,
+        "trajectory": log.run.trajectory,
+        "mission_wall_s": log.run.wall_s,
         "wall_s": wall.elapsed().as_secs_f64(),
     })
 }
@@ -358,6 +358,7 @@ fn write_figures(ex: &RbcmGreedy, log: &RbcmGreedyLog, out: &Path) -> Result<()>
     }
     let scale = Canvas::auto_scale(cm.rect, 800);
     let traj: Vec<_> = log
+        .run
         .trajectory
         .iter()
         .map(|s| strider_core::Point2::new(s.x, s.y))

@@ -148,7 +148,7 @@ pub fn run_escape(
             // Section times every 5 simulated seconds: the check walks every section cell.
             tick += 1;
             if tick.is_multiple_of(5) {
-                let t = m.log().trajectory.last().map_or(t0, |s| s.t);
+                let t = m.log().run.trajectory.last().map_or(t0, |s| s.t);
                 for (k, f) in section_fractions(m.map(), &secs).into_iter().enumerate() {
                     if at[k].is_none() && f >= SECTION_EXPLORED_FRACTION {
                         at[k] = Some(t);
@@ -169,7 +169,7 @@ pub fn run_escape(
                 cells: s.len(),
                 observed_fraction: f,
                 explored,
-                explored_at_s: at[k].or(explored.then_some(log.exploration_time_s)),
+                explored_at_s: at[k].or(explored.then_some(log.run.exploration_time_s)),
             }
         })
         .collect();

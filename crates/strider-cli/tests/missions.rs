@@ -76,7 +76,10 @@ fn centre_never_enters_an_inadmissible_cell() {
         let mut judge = Judge::new(&sc, seed);
         let mut mission = Mission::new(params).expect("mission");
         let log = mission.run(&mut judge).expect("mission runs").clone();
-        assert!(log.driven_m > 0.3, "seed {seed}: the robot hardly moved");
+        assert!(
+            log.run.driven_m > 0.3,
+            "seed {seed}: the robot hardly moved"
+        );
         assert!(
             judge.violations.is_empty(),
             "{name} world {world_seed} seed {seed} {strategy:?}: centre in inadmissible cells at {:?}",
@@ -111,14 +114,17 @@ fn bounded_explorations_terminate_and_repeat_exactly() {
         };
         let (a, cells_a) = run();
         assert_ne!(
-            a.termination,
+            a.run.termination,
             Termination::TimeLimit,
             "world {world_seed} seed {seed} {strategy:?} did not terminate in {} s",
-            a.exploration_time_s
+            a.run.exploration_time_s
         );
         let (b, cells_b) = run();
-        assert_eq!(a.trajectory, b.trajectory, "same seed, same trajectory");
-        assert_eq!(a.termination, b.termination);
+        assert_eq!(
+            a.run.trajectory, b.run.trajectory,
+            "same seed, same trajectory"
+        );
+        assert_eq!(a.run.termination, b.run.termination);
         assert_eq!(a.cost_samples, b.cost_samples);
         assert_eq!(cells_a, cells_b);
     }

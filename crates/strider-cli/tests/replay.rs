@@ -32,7 +32,7 @@ fn replay_of_a_recorded_mission_gives_the_live_map_and_costs() {
 
     // Recording does not change the mission.
     let (_, plain_log) = run_mission(&sc, params.clone(), 1, |_| {}).unwrap();
-    assert_eq!(plain_log.trajectory, live_log.trajectory);
+    assert_eq!(plain_log.run.trajectory, live_log.run.trajectory);
     assert_eq!(plain_log.cost_samples, live_log.cost_samples);
 
     // Replay through the log reader and the mission's passive loop.
@@ -44,7 +44,7 @@ fn replay_of_a_recorded_mission_gives_the_live_map_and_costs() {
     let log = mission.ingest(&mut replay, |_, _| {}).unwrap().clone();
     assert!(replay.warnings().is_empty(), "{:?}", replay.warnings());
     assert_eq!(log.cost_samples, live_log.cost_samples);
-    assert!((log.exploration_time_s - live_log.exploration_time_s).abs() < 1e-9);
+    assert!((log.run.exploration_time_s - live_log.run.exploration_time_s).abs() < 1e-9);
 
     // Map layers.
     let (a, b) = (live.map(), mission.map());

@@ -36,5 +36,7 @@ pub mod planner;
 pub mod rbcm_greedy;
 pub mod stats;
 
-pub use mission::{Mission, MissionError, MissionLog, MissionProgress, PhaseWall, Termination};
+pub use mission::{
+    Mission, MissionError, MissionLog, MissionProgress, PhaseWall, RunRecord, Termination,
+};
 pub use params::{GaitSpec, MissionParams, Rates, Strategy};

@@ -82,17 +82,42 @@ pub struct TrajectorySample {
     pub gait: u8,
 }
 
-/// What a mission did.
+/// What every exploration run records, whatever its strategy ([`MissionLog`],
+/// [`crate::rbcm_greedy::RbcmGreedyLog`], [`crate::escape::EscapeLog`]); serialised flat into
+/// each log's JSON.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct MissionLog {
+pub struct RunRecord {
     /// Why it stopped.
     pub termination: Termination,
     /// Robot time from start to termination, s.
     pub exploration_time_s: f64,
-    /// Distance driven, m.
+    /// Distance driven (from the pose stream), m.
     pub driven_m: f64,
     /// Trajectory at 2 Hz.
     pub trajectory: Vec<TrajectorySample>,
+    /// Wall time of the run, s.
+    pub wall_s: f64,
+}
+
+impl RunRecord {
+    /// A run not started yet: `termination` until it stops, nothing driven.
+    pub fn new(termination: Termination) -> Self {
+        Self {
+            termination,
+            exploration_time_s: 0.0,
+            driven_m: 0.0,
+            trajectory: Vec::new(),
+            wall_s: 0.0,
+        }
+    }
+}
+
+/// What a mission did.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct MissionLog {
+    /// Termination, time, distance, trajectory and wall time.
+    #[serde(flatten)]
+    pub run: RunRecord,
     /// Wall-clock latency of each replan (planning grid, all-pairs, GTSP, path), ms.
     pub replan_ms: Vec<f64>,
     /// The parts of each replan, in the order of `replan_ms`.
@@ -111,8 +136,6 @@ pub struct MissionLog {
     pub stuck_events: usize,
     /// Cost samples dropped because the robot turned more than 45° within their window.
     pub turn_skipped: usize,
-    /// Wall time of the mission, s.
-    pub wall_s: f64,
     /// Wall time per part of the loop, s.
     pub phase_wall_s: PhaseWall,
     /// Eq. 11 sums evaluated afresh over all spatial updates.
@@ -288,10 +311,7 @@ impl Mission {
             learned_once: false,
             spatial_once: false,
             log: MissionLog {
-                termination: Termination::TimeLimit,
-                exploration_time_s: 0.0,
-                driven_m: 0.0,
-                trajectory: Vec::new(),
+                run: RunRecord::new(Termination::TimeLimit),
                 replan_ms: Vec::new(),
                 replan_parts: Vec::new(),
                 spatial_goal_ms: Vec::new(),
@@ -300,7 +320,6 @@ impl Mission {
                 cost_samples: vec![0; n],
                 stuck_events: 0,
                 turn_skipped: 0,
-                wall_s: 0.0,
                 phase_wall_s: PhaseWall::default(),
                 gain_evaluated: 0,
                 gain_updated: 0,
@@ -438,7 +457,7 @@ impl Mission {
         loop {
             let t = robot.now();
             if t - t0 >= self.params.time_limit_s {
-                self.log.termination = Termination::TimeLimit;
+                self.log.run.termination = Termination::TimeLimit;
                 break;
             }
             self.moving = !state.idle;
@@ -478,7 +497,7 @@ impl Mission {
                 };
                 self.log.phase_wall_s.planning += w.elapsed().as_secs_f64();
                 if let Some(end) = end {
-                    self.log.termination = end;
+                    self.log.run.termination = end;
                     break;
                 }
                 next_tour = t + 1.0 / rates.tour_hz;
@@ -508,8 +527,8 @@ impl Mission {
             }
         }
         robot.follow(&[]);
-        self.log.exploration_time_s = robot.now() - t0;
-        self.log.wall_s = wall.elapsed().as_secs_f64();
+        self.log.run.exploration_time_s = robot.now() - t0;
+        self.log.run.wall_s = wall.elapsed().as_secs_f64();
         Ok(&self.log)
     }
 
@@ -858,8 +877,8 @@ impl SensorSink for Mission {
             return;
         }
         let (d, sample) = self.path.push(pose);
-        self.log.driven_m += d;
-        self.log.trajectory.extend(sample);
+        self.log.run.driven_m += d;
+        self.log.run.trajectory.extend(sample);
         self.pose = Some(*pose);
         // Heading change over the cost window (|Δyaw| summed), to drop windows with turns.
         if let Some(prev) = self.turn_window.back().map(|&(_, y, _)| y) {

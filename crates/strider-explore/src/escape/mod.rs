@@ -36,7 +36,7 @@ pub mod haptic;
 pub mod reflexes;
 pub mod view;
 
-use crate::mission::{Termination, TrajectorySample};
+use crate::mission::{RunRecord, Termination};
 use force_predictor::{ForcePrediction, ForcePredictor, PredictorParams, describe};
 use goals::{Goal, GoalInputs, GoalKind, select_goal};
 use haptic::{BumperFilter, HapticModel, HapticParams};
@@ -238,16 +238,9 @@ pub struct GoalEvent {
 pub struct EscapeLog {
     /// Strategy.
     pub mode: EscapeMode,
-    /// Why it stopped.
-    pub termination: Termination,
-    /// Robot time from start to termination, s.
-    pub exploration_time_s: f64,
-    /// Distance walked (from the pose stream), m.
-    pub driven_m: f64,
-    /// Wall time, s.
-    pub wall_s: f64,
-    /// Trajectory at 2 Hz.
-    pub trajectory: Vec<TrajectorySample>,
+    /// Termination, time, distance, trajectory and wall time.
+    #[serde(flatten)]
+    pub run: RunRecord,
     /// Explored area and cell states over time.
     pub timeline: Vec<TimelineSample>,
     /// Bumper contacts.
@@ -337,11 +330,7 @@ impl EscapeMission {
             ),
             log: EscapeLog {
                 mode: params.mode,
-                termination: Termination::TimeLimit,
-                exploration_time_s: 0.0,
-                driven_m: 0.0,
-                wall_s: 0.0,
-                trajectory: Vec::new(),
+                run: RunRecord::new(Termination::TimeLimit),
                 timeline: Vec::new(),
                 contacts: Vec::new(),
                 goals: Vec::new(),
@@ -408,7 +397,7 @@ impl EscapeMission {
         loop {
             let t = robot.now();
             if t - t0 >= self.params.time_limit_s {
-                self.log.termination = Termination::TimeLimit;
+                self.log.run.termination = Termination::TimeLimit;
                 break;
             }
             let state = robot
@@ -462,7 +451,7 @@ impl EscapeMission {
             if replan || state.idle || state.blocked {
                 replan = false;
                 if let Some(end) = self.decide(robot, t, state) {
-                    self.log.termination = end;
+                    self.log.run.termination = end;
                     break;
                 }
             }
@@ -472,8 +461,8 @@ impl EscapeMission {
         self.close_contact(t, true);
         self.update_view();
         self.record(t);
-        self.log.exploration_time_s = t - t0;
-        self.log.wall_s = wall.elapsed().as_secs_f64();
+        self.log.run.exploration_time_s = t - t0;
+        self.log.run.wall_s = wall.elapsed().as_secs_f64();
         Ok(&self.log)
     }
 
@@ -860,8 +849,8 @@ impl SensorSink for EscapeMission {
             return;
         }
         let (d, sample) = self.path.push(pose);
-        self.log.driven_m += d;
-        self.log.trajectory.extend(sample);
+        self.log.run.driven_m += d;
+        self.log.run.trajectory.extend(sample);
         self.pose = Some(*pose);
     }
 

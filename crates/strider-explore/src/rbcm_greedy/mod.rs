@@ -42,7 +42,7 @@
 pub mod cost_map;
 pub mod goals;
 
-use crate::mission::{MissionError, MissionProgress, Termination, TrajectorySample};
+use crate::mission::{MissionError, MissionProgress, RunRecord, Termination};
 use cost_map::{CostMap, PredictionCache};
 use goals::{Goal, GoalKind, best_cost_goal, best_spatial_goal, frontier_representatives};
 use std::time::Instant;
@@ -152,14 +152,9 @@ pub struct CostRecord {
 /// What an `rbcm-greedy` exploration did.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct RbcmGreedyLog {
-    /// Why it stopped.
-    pub termination: Termination,
-    /// Robot time from start to termination, s.
-    pub exploration_time_s: f64,
-    /// Distance driven, m.
-    pub driven_m: f64,
-    /// Trajectory at 2 Hz.
-    pub trajectory: Vec<TrajectorySample>,
+    /// Termination, time, distance, trajectory and wall time.
+    #[serde(flatten)]
+    pub run: RunRecord,
     /// Every planning cycle.
     pub plans: Vec<PlanRecord>,
     /// Every learning pair stored.
@@ -175,8 +170,6 @@ pub struct RbcmGreedyLog {
     pub cost_goals_reached: usize,
     /// Spatial goals reached.
     pub spatial_goals_reached: usize,
-    /// Wall time of the mission, s.
-    pub wall_s: f64,
 }
 
 /// A manoeuvre that runs without planning until it ends or its deadline passes.
@@ -273,10 +266,7 @@ impl RbcmGreedy {
             reached_cost: Vec::new(),
             blocked_on_goal: 0,
             log: RbcmGreedyLog {
-                termination: Termination::TimeLimit,
-                exploration_time_s: 0.0,
-                driven_m: 0.0,
-                trajectory: Vec::new(),
+                run: RunRecord::new(Termination::TimeLimit),
                 plans: Vec::new(),
                 samples: Vec::new(),
                 undescribed_samples: 0,
@@ -284,7 +274,6 @@ impl RbcmGreedy {
                 refusals: 0,
                 cost_goals_reached: 0,
                 spatial_goals_reached: 0,
-                wall_s: 0.0,
             },
             params,
         })
@@ -396,7 +385,7 @@ impl RbcmGreedy {
         loop {
             let t = robot.now();
             if t - t0 >= self.params.time_limit_s {
-                self.log.termination = Termination::TimeLimit;
+                self.log.run.termination = Termination::TimeLimit;
                 break;
             }
             if state.idle {
@@ -425,7 +414,7 @@ impl RbcmGreedy {
             if t >= next_plan || state.idle || state.blocked {
                 next_plan = t + 1.0 / self.params.plan_hz;
                 if let Some(end) = self.plan(robot, t, state) {
-                    self.log.termination = end;
+                    self.log.run.termination = end;
                     break;
                 }
                 state.idle = false;
@@ -446,8 +435,8 @@ impl RbcmGreedy {
             }
         }
         robot.follow(&[]);
-        self.log.exploration_time_s = robot.now() - t0;
-        self.log.wall_s = wall.elapsed().as_secs_f64();
+        self.log.run.exploration_time_s = robot.now() - t0;
+        self.log.run.wall_s = wall.elapsed().as_secs_f64();
         Ok(&self.log)
     }
 
@@ -711,8 +700,8 @@ impl SensorSink for RbcmGreedy {
             return;
         }
         let (d, sample) = self.path.push(pose);
-        self.log.driven_m += d;
-        self.log.trajectory.extend(sample);
+        self.log.run.driven_m += d;
+        self.log.run.trajectory.extend(sample);
         self.pose = Some(*pose);
         self.roll.push_pose(pose);
     }
