@@ -292,33 +292,28 @@ impl Heightfield {
                     // Step out through the face the ray leaves by (x on a tie, as the cell
                     // traversal does); the other index follows the exit point.
                     t_in = t_exit;
-                    if tbx <= tby {
-                        ix = if sx > 0 {
-                            (block.0 + 1) * BLOCK
+                    // The first index past the block along the exit axis (None: the ray leaves
+                    // the world), and the other axis' index at the exit point, kept in the
+                    // block's span.
+                    let step_out = |b: i64, s: i64, n: i64| {
+                        let k = if s > 0 {
+                            (b + 1) * BLOCK
                         } else {
-                            block.0 * BLOCK - 1
+                            b * BLOCK - 1
                         };
-                        if ix < 0 || ix >= w {
-                            return None;
-                        }
-                        iy = start_index_at(oy, uy, t_in, d, h).clamp(
-                            (block.1 * BLOCK).min(h - 1),
-                            ((block.1 + 1) * BLOCK - 1).min(h - 1),
-                        );
+                        (0..n).contains(&k).then_some(k)
+                    };
+                    let follow = |o: f64, v: f64, b: i64, n: i64| {
+                        start_index_at(o, v, t_in, d, n)
+                            .clamp((b * BLOCK).min(n - 1), ((b + 1) * BLOCK - 1).min(n - 1))
+                    };
+                    if tbx <= tby {
+                        ix = step_out(block.0, sx, w)?;
+                        iy = follow(oy, uy, block.1, h);
                         entry = Entry::X(boundary(ix - sx, sx));
                     } else {
-                        iy = if sy > 0 {
-                            (block.1 + 1) * BLOCK
-                        } else {
-                            block.1 * BLOCK - 1
-                        };
-                        if iy < 0 || iy >= h {
-                            return None;
-                        }
-                        ix = start_index_at(ox, ux, t_in, d, w).clamp(
-                            (block.0 * BLOCK).min(w - 1),
-                            ((block.0 + 1) * BLOCK - 1).min(w - 1),
-                        );
+                        iy = step_out(block.1, sy, h)?;
+                        ix = follow(ox, ux, block.0, w);
                         entry = Entry::Y(boundary(iy - sy, sy));
                     }
                     tx = if ux != 0.0 {
