@@ -31,9 +31,11 @@ def main() -> int:
     ap.add_argument("a", help="first binary (e.g. the baseline)")
     ap.add_argument("b", help="second binary")
     ap.add_argument("--rounds", type=int, default=5)
-    ap.add_argument("run_args", nargs=argparse.REMAINDER, help="-- then `strider run` arguments")
-    opt = ap.parse_args()
-    args = [a for a in opt.run_args if a != "--"]
+    ap.epilog = "Arguments after `--` go to `strider run`."
+    argv = sys.argv[1:]
+    cut = argv.index("--") if "--" in argv else len(argv)
+    opt = ap.parse_args(argv[:cut])
+    args = argv[cut + 1 :]
     speed = {"a": [], "b": []}
     phases = {"a": [], "b": []}
     with tempfile.TemporaryDirectory() as tmp:
