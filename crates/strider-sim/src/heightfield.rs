@@ -60,7 +60,9 @@ pub struct Heightfield {
 /// Side of the blocks of [`Heightfield`]'s coarse maximum, cells. A ray passing above a block's
 /// highest column crosses the block in one step instead of up to 2·BLOCK cell steps: over
 /// open ground most of a camera's rays fly above the terrain for most of their length.
-const BLOCK: i64 = 8;
+const BLOCK: i64 = 1 << BLOCK_SHIFT;
+/// log2 of [`BLOCK`] (indices are never negative, so a shift is the block division).
+const BLOCK_SHIFT: u32 = 3;
 
 /// Tolerance of [`Heightfield::visible`], metres: a blocking hit this close to the target counts
 /// as the target itself.
@@ -264,12 +266,19 @@ impl Heightfield {
         };
         let mut t_in = t0;
         let zmax = self.max_elevation;
-        let mut block = (-1, -1);
+        // A ray brought down to the highest column's top by the skip above is already where
+        // the terrain can begin (most of a downward camera's rays over open ground): its first
+        // block is not tested, only the blocks it enters later.
+        let mut block = if skipped {
+            (ix >> BLOCK_SHIFT, iy >> BLOCK_SHIFT)
+        } else {
+            (-1, -1)
+        };
         loop {
             // Entering a new block: if the ray stays above its highest column until it leaves
             // the block, jump to the first cell past the block.
-            if (ix / BLOCK, iy / BLOCK) != block {
-                block = (ix / BLOCK, iy / BLOCK);
+            if (ix >> BLOCK_SHIFT, iy >> BLOCK_SHIFT) != block {
+                block = (ix >> BLOCK_SHIFT, iy >> BLOCK_SHIFT);
                 let bmax = self.block_max[block.1 as usize * self.blocks_w + block.0 as usize];
                 let exit_time = |b: i64, o: f64, v: f64, r: f64| {
                     let edge = if v > 0.0 { (b + 1) * BLOCK } else { b * BLOCK };
