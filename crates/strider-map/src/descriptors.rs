@@ -87,8 +87,8 @@ fn fill<T: Send + Clone>(
 /// Bin counts of one disc: per bin, and the known cells.
 #[derive(Clone, Copy)]
 struct DiscCounts<const N: usize> {
-    bins: [u16; N],
-    known: u16,
+    bins: [u32; N],
+    known: u32,
 }
 
 impl<const N: usize> DiscCounts<N> {
