@@ -10,6 +10,11 @@
 //! * it hits a cell's **top face** when it descends to the cell's elevation while inside the cell.
 //!
 //! A non-finite elevation marks a cell without surface (a hole), like the outside of the world.
+//!
+//! **Empty space is skipped**, exactly: a descending ray starts where it comes down to the
+//! highest column of the world, and a ray that stays above the highest column of an 8 × 8 block
+//! of cells until it leaves the block jumps past it (re-entering the traversal at the block's
+//! far side). The hit is the one of the plain cell-by-cell traversal; a test compares the two.
 
 use strider_core::{Cell, CellRect, Point2, Point3};
 use strider_scenario::World;
