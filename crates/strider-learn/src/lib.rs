@@ -4,7 +4,7 @@
 //! experienced this cost on this terrain" and "these are the planning costs per gait, and these
 //! are the goals where the models can still learn". One module per concept:
 //!
-//! * [`bench`]: the learner benchmark harness of `000` §V-A and thesis C1 (one interface over
+//! * [`bench`](mod@bench): the learner benchmark harness of `000` §V-A and thesis C1 (one interface over
 //!   GP, RBCM, IGMN and tree; the incremental-stream and the aerial-view protocols).
 //! * [`cost_model`]: the per-gait traversal cost model C^g (`001` Alg. 5–10, Eq. 12–18, 22–26).
 //! * [`descriptor_field`]: terrain descriptors (ta(ν) of `001` §4.2 or the 5-D descriptor of

@@ -70,7 +70,7 @@ pub enum Node {
         /// Population variance of their targets.
         variance: f64,
     },
-    /// An internal node: go left when x[feature] ≤ threshold.
+    /// An internal node: go left when x\[feature\] ≤ threshold.
     Split {
         /// The feature tested.
         feature: usize,

@@ -1,7 +1,7 @@
 //! The thesis C1 descriptor family (thesis C1 §III-A) on the colored 2.5D map, for the learner
 //! benchmark: a colour part (RGB or Lab, of the cell itself — "Point" — or the mean within
 //! r_color = 0.2 m — "Mean" — or none) joined with a geometric part (height, shape, orientation,
-//! all three — "Set" — or none), after the 13-feature set of the paper's reference [24] less its
+//! all three — "Set" — or none), after the 13-feature set of the paper's reference \[24\] less its
 //! distance and reflectance features.
 //!
 //! On a 2.5D grid the "points" are the known cell centres (x, y, z); the neighbourhood of the

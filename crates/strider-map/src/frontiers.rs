@@ -92,7 +92,7 @@ pub fn components(cells: &[Cell]) -> Vec<Vec<Cell>> {
 }
 
 /// Deterministic k-means of `cells` into `k` groups: farthest-point initialisation starting at
-/// the first cell, then [`KMEANS_ITERATIONS`] Lloyd iterations. Returns each centre snapped to its
+/// the first cell, then `KMEANS_ITERATIONS` Lloyd iterations. Returns each centre snapped to its
 /// nearest member cell and the number of cells assigned to it.
 pub fn kmeans_representatives(cells: &[Cell], k: usize) -> Vec<(Cell, usize)> {
     let k = k.clamp(1, cells.len().max(1));

@@ -858,7 +858,7 @@ const NOT_CACHED: u32 = u32::MAX;
 /// Eq. 11 kept up to date between calls: a mission asks for the gain every few seconds while
 /// the map changes only where the sensor looks. A cached candidate near cells that changed
 /// since the last call gets its sum *updated* from the targets those changes can affect
-/// ([`GainView::delta_count`]); only candidates that are new, changed themselves, or saw many
+/// (`GainView::delta_count`); only candidates that are new, changed themselves, or saw many
 /// changes are evaluated afresh. Sums are kept as integers (9·I_model), so updates are exact.
 ///
 /// "Changed" means the cell became observed, or its elevation moved by more than `dz` from

@@ -15,7 +15,7 @@
 //! * [`c1_descriptors`]: the thesis C1 descriptor family (RGB/Lab of the cell or its
 //!   neighbourhood; height, shape, orientation features) for the learner benchmark.
 //! * [`observability`]: observable(ν, ν') by ray casting (`001` Eq. 11, decision 5).
-//! * [`information_gain`]: I_cell (`001` Eq. 10) and I_model (`001` Eq. 11) on candidate cells.
+//! * [`information_gain`](mod@information_gain): I_cell (`001` Eq. 10) and I_model (`001` Eq. 11) on candidate cells.
 //! * [`clustering`]: spatial goals by `001` Alg. 3.
 //! * [`frontiers`]: frontier representatives, n_r by `000` Eq. 13.
 //!

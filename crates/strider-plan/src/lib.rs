@@ -1,7 +1,7 @@
 //! Strider exploration-tour planning.
 //!
 //! * [`tsplib`] reads TSPLIB / GTSPLIB instance and tour files into a dense
-//!   [`Instance`](tsplib::Instance).
+//!   [`Instance`].
 //! * [`gtsp`] solves the (open or closed, symmetric or asymmetric)
 //!   Generalized Traveling Salesman Problem: visit exactly one vertex of every
 //!   set at minimum cost. See the module docs for the algorithm.

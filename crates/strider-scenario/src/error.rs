@@ -28,7 +28,7 @@ pub enum ScenarioError {
     MissingFile {
         /// The missing file.
         path: PathBuf,
-        /// Which role the file plays (e.g. "elevation layer named in [world]").
+        /// Which role the file plays (e.g. "elevation layer named in \[world\]").
         what: String,
     },
     /// The scenario TOML is malformed or has wrong/unknown keys.

@@ -7,7 +7,7 @@
 //! bounds and benchmark tours.
 //!
 //! * [`model`]: the in-memory data model.
-//! * [`format`]: the file format (TOML naming PNG layers), [`Scenario::load`] and
+//! * [`format`](mod@format): the file format (TOML naming PNG layers), [`Scenario::load`] and
 //!   [`Scenario::save`].
 //! * [`profiles`]: the built-in robot profiles.
 //! * [`builtin`]: the procedurally generated worlds of SCENARIOS.md (and `cot-track`, thesis C1)

@@ -141,7 +141,7 @@ pub enum GpError {
     /// A non-finite input coordinate or target (rejected, never stored).
     #[error("{what} is not finite")]
     NonFinite {
-        /// What was not finite, e.g. "x[3] of point 7" or "y of point 7".
+        /// What was not finite, e.g. "x\[3\] of point 7" or "y of point 7".
         what: String,
     },
     /// Hyperparameters or bounds out of their domain.

@@ -13,20 +13,20 @@
 //! spirit of Karapetyan & Gutin ("Efficient local search algorithms for
 //! known and new neighborhoods for the GTSP", EJOR 219, 2012):
 //!
-//! * [`problem`]: the instance in solver form (sets as contiguous vertex
+//! * `problem`: the instance in solver form (sets as contiguous vertex
 //!   ranges, row and column cost slices, set-to-set distances); open tours
 //!   become closed tours with free arcs into the start vertex.
-//! * [`insertion_deletion`]: removal (random, segment, related, worst) and
+//! * `insertion_deletion`: removal (random, segment, related, worst) and
 //!   insertion (random, nearest, farthest, cheapest order; cheapest position
 //!   and vertex; optional noise) operators.
-//! * [`tour_optimizations`]: cluster optimisation (optimal vertex per set
+//! * `tour_optimizations`: cluster optimisation (optimal vertex per set
 //!   for a fixed set order by a shortest path through the layered graph) and
 //!   a don't-look-bit local search with move-opt, 2-opt and or-opt, exact for
 //!   asymmetric costs.
-//! * [`adaptive_powers`]: adaptive operator weights.
-//! * [`lns`]: the trial / iteration loop with simulated-annealing acceptance.
-//! * [`exact`]: Held–Karp dynamic programming for small instances.
-//! * [`parameter_defaults`]: parameters and presets.
+//! * `adaptive_powers`: adaptive operator weights.
+//! * `lns`: the trial / iteration loop with simulated-annealing acceptance.
+//! * `exact`: Held–Karp dynamic programming for small instances.
+//! * `parameter_defaults`: parameters and presets.
 //!
 //! Runs are deterministic for a seed; only the time limit depends on the
 //! clock.
