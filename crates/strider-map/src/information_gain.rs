@@ -67,6 +67,10 @@ struct DiscTable {
     /// distance. The delta update scans this instead of searching each bin.
     near_start: Vec<u32>,
     near: Vec<u32>,
+    /// Number of distance slots ([`DiscTable::slot`]) up to the disc's edge, and the `u64`
+    /// words that hold one bit per slot.
+    slots: usize,
+    slot_words: usize,
 }
 
 #[derive(Clone, Copy)]
@@ -126,6 +130,8 @@ impl DiscTable {
         for b in 0..ANGLE_BINS {
             by_bin_start[b + 1] += by_bin_start[b];
         }
+        let max_r = entries.iter().map(|e| e.r).fold(0.0f32, f32::max);
+        let slots = Self::slot(max_r) + 1;
         let mut near_start = Vec::with_capacity(entries.len() + 1);
         let mut near = Vec::new();
         near_start.push(0u32);
@@ -154,7 +160,17 @@ impl DiscTable {
             by_bin: order,
             near_start,
             near,
+            slots,
+            slot_words: slots.div_ceil(64),
         }
+    }
+
+    /// The distance slot of centre distance `r` (cells): half-cell slots from the centre.
+    /// Monotone, so a target within a shadow interval lies within its slot range.
+    #[inline]
+    fn slot(r: f32) -> usize {
+        // Saturating: negative distances fall in slot 0, huge ones past the last slot.
+        (r * 2.0) as usize
     }
 
     /// The entries a cell at entry `k` can shadow within [`NEAR_SHADOW`] of its centre
@@ -265,6 +281,9 @@ fn elevation_in(elev: &[f32], rect: CellRect, c: Cell) -> Option<f32> {
 struct Scratch {
     /// Unknown targets of the disc: (entry index, 9·I_cell).
     targets: Vec<(u32, u8)>,
+    /// Shadow coverage: per direction bin, one bit per distance slot (see
+    /// [`DiscTable::slot`]) that some raised cell may shadow.
+    covered: Vec<u64>,
     /// Disc entries already visited by a delta update (== `stamp`).
     seen: Vec<u32>,
     stamp: u32,
@@ -379,7 +398,9 @@ impl GainView {
         }
         let zs = ef as f64 + h;
         let zt = target_height(None, ef);
-        let targets = &mut scratch.targets;
+        let Scratch {
+            targets, covered, ..
+        } = scratch;
         targets.clear();
         let mut ray_work = 0usize;
         for (k, e) in disc.entries.iter().enumerate() {
@@ -411,11 +432,14 @@ impl GainView {
         }
         // Only known cells above min(sensor, target) = ef can block a ray to an unknown
         // target, and only over their shadow interval of target distances. Each such cell
-        // marks the direction bins it subtends with that interval (kept as the hull per bin);
-        // targets outside every interval of their direction are clear without casting (exact:
-        // a ray meets a cell only within its angular extent, and a slightly raised cell
-        // shadows only the targets just behind it).
-        let mut shadow = [(f32::INFINITY, f32::NEG_INFINITY); ANGLE_BINS];
+        // marks that interval's distance slots in the direction bins it subtends; targets in
+        // no marked slot of their direction are clear without casting (exact: a ray meets a
+        // cell only within its angular extent, and a slightly raised cell shadows only the
+        // targets just behind it, so the floor's millimetre noise marks little).
+        let words = disc.slot_words;
+        let last = disc.slots - 1;
+        covered.clear();
+        covered.resize(ANGLE_BINS * words, 0);
         // Per bin, the distance beyond which a cell higher than the sensor certainly hides the
         // target: the sight line crosses that cell's interior (inner bins) and never rises
         // above the sensor, so it runs below the cell's top there.
@@ -434,10 +458,10 @@ impl GainView {
                 continue;
             }
             let (start, end) = shadow_interval(e.r, z, zs, zt);
+            let (s0, s1) = (DiscTable::slot(start), DiscTable::slot(end).min(last));
             for &(a, b) in e.spans() {
-                for m in &mut shadow[a as usize..=b as usize] {
-                    m.0 = m.0.min(start);
-                    m.1 = m.1.max(end);
+                for bin in a as usize..=b as usize {
+                    set_bits(&mut covered[bin * words..(bin + 1) * words], s0, s1);
                 }
             }
             if z as f64 > zs && e.inner.0 <= e.inner.1 {
@@ -451,10 +475,8 @@ impl GainView {
         let mut sum = 0u32;
         for &(k, g) in targets.iter() {
             let e = disc.entries[k as usize];
-            let maybe_blocked = any_tall && {
-                let (lo, hi) = shadow[e.bin as usize];
-                e.r >= lo && e.r <= hi
-            };
+            let maybe_blocked =
+                any_tall && get_bit(&covered[e.bin as usize * words..], DiscTable::slot(e.r));
             if maybe_blocked && e.r >= hidden_from[e.bin as usize] {
                 continue;
             }
@@ -691,6 +713,26 @@ fn crosses_below(xi: i32, xj: i32, ti: i32, tj: i32, z: f64, zs: f64, zt: f64) -
     z > z_min + 1e-9
 }
 
+/// Sets bits `lo..=hi` of the bit set `v` (nothing when `lo > hi`).
+#[inline]
+fn set_bits(v: &mut [u64], lo: usize, hi: usize) {
+    if lo > hi {
+        return;
+    }
+    let (wl, wh) = (lo / 64, hi / 64);
+    let head = !0u64 << (lo % 64);
+    let tail = !0u64 >> (63 - hi % 64);
+    if wl == wh {
+        v[wl] |= head & tail;
+    } else {
+        v[wl] |= head;
+        for w in &mut v[wl + 1..wh] {
+            *w = !0;
+        }
+        v[wh] |= tail;
+    }
+}
+
 #[inline]
 fn set_bit(v: &mut [u64], k: usize) {
     v[k / 64] |= 1 << (k % 64);
@@ -773,6 +815,42 @@ fn angle_bin(x: f64, y: f64) -> usize {
 fn view_rect(map: &ElevationMap, around: CellRect) -> CellRect {
     let reach = disc_reach(map.params().r_sensor, map.cell_size());
     rect::expand(around, reach + 2)
+}
+
+/// Moves the view, the cached counts and visibility bits into the larger `rect`; cells
+/// new to the view are unknown (as they were to the old view), so its I_cell values are
+/// unchanged where a cached candidate reads them.
+fn grow_view(
+    view: &mut Option<GainView>,
+    counts: &mut Vec<u32>,
+    vis: &mut Vec<Vec<u64>>,
+    rect: CellRect,
+    bounds: Option<&WorldRect>,
+    d: f64,
+) {
+    let Some(old) = view.take() else {
+        return;
+    };
+    let mut elev = vec![f32::NAN; rect.len()];
+    let mut new_counts = vec![NOT_CACHED; rect.len()];
+    let mut new_vis = vec![Vec::new(); rect.len()];
+    for (k, c) in old.rect.cells().enumerate() {
+        if let Some(nk) = rect.index(c) {
+            elev[nk] = old.elev[k];
+            new_counts[nk] = counts[k];
+            new_vis[nk] = std::mem::take(&mut vis[k]);
+        }
+    }
+    let mut v = GainView {
+        rect,
+        elev,
+        icount: Vec::new(),
+        sat: Vec::new(),
+    };
+    v.derive(bounds, d);
+    *view = Some(v);
+    *counts = new_counts;
+    *vis = new_vis;
 }
 
 /// I_cell(ν') (Eq. 10): (k + 1) / 9 for an unknown cell inside `bounds`, 0 otherwise.
@@ -939,19 +1017,27 @@ impl GainCache {
         // The view before this call's changes: elevations, and I_cell when it changed (else
         // the current one serves).
         let mut old: Option<(Vec<f32>, Option<Vec<u8>>)> = None;
-        if !fits || self.bounds != bounds.copied() {
-            // Grow with a margin so that a slowly growing map rebuilds rarely.
-            let rect = match &self.view {
-                Some(v) if self.bounds == bounds.copied() => {
-                    rect::expand(rect::union(v.rect, needed), disc.reach)
-                }
-                _ => rect::expand(needed, disc.reach),
-            };
+        let rebuild = self.view.is_none() || self.bounds != bounds.copied();
+        if rebuild {
+            let rect = rect::expand(needed, disc.reach);
             self.view = Some(GainView::new(map, rect, bounds));
             self.counts = vec![NOT_CACHED; rect.len()];
             self.vis = vec![Vec::new(); rect.len()];
             self.bounds = bounds.copied();
-        } else if let Some(v) = self.view.as_mut() {
+        } else if !fits {
+            // The known area outgrew the view: grow it with a margin (so that a slowly
+            // growing map grows it rarely) and carry the cache over. Every cached candidate's
+            // disc lies in the old view, outside which nothing was known; the new cells enter
+            // as changes below like any other.
+            let grown = self
+                .view
+                .as_ref()
+                .map_or(needed, |v| rect::union(v.rect, needed));
+            let rect = rect::expand(grown, disc.reach);
+            let (view, counts, vis) = (&mut self.view, &mut self.counts, &mut self.vis);
+            grow_view(view, counts, vis, rect, bounds, d);
+        }
+        if !rebuild && let Some(v) = self.view.as_mut() {
             // Follow the map: cells that became observed or moved by more than dz.
             let fresh = map.elevation_raster(v.rect);
             let mut changed = vec![false; fresh.len()];
@@ -1192,6 +1278,17 @@ mod tests {
             cache.compute(m, &reach, None),
             information_gain(m, &reach, None),
         )
+    }
+
+    #[test]
+    fn set_bits_sets_exactly_the_range() {
+        for (lo, hi) in [(0, 0), (3, 70), (64, 127), (5, 200), (63, 64), (9, 8)] {
+            let mut v = vec![0u64; 4];
+            set_bits(&mut v, lo, hi);
+            for k in 0..256 {
+                assert_eq!(get_bit(&v, k), (lo..=hi).contains(&k), "{lo}..={hi} at {k}");
+            }
+        }
     }
 
     #[test]
