@@ -238,8 +238,12 @@ pub struct GaitCostModel {
     /// I_C per class of the last update.
     class_gain: HashMap<ClassId, f64>,
     /// Regressor predictions (descriptor, mean, latent variance) per cell since the last
-    /// update, for the novelty test.
+    /// update, for the novelty test; the variance is NaN until a test needed it.
     novelty_cache: HashMap<Cell, (Vec<f64>, f64, f64)>,
+    /// α = K⁻¹(y − m) of the regressor since the last update (computed at the first novelty
+    /// test that needs a mean), and the scaled-query scratch of [`Gp::mean_with_alpha`].
+    alpha: Option<Vec<f64>>,
+    query_scratch: Vec<f64>,
     /// Class predictions of the last update (clamped mean).
     class_cost: HashMap<ClassId, f64>,
     rejected_costs: usize,
@@ -290,6 +294,8 @@ impl GaitCostModel {
             plan_class: Vec::new(),
             class_gain: HashMap::default(),
             novelty_cache: HashMap::default(),
+            alpha: None,
+            query_scratch: Vec::new(),
             class_cost: HashMap::default(),
             rejected_costs: 0,
             cell_size: 0.05,
@@ -490,14 +496,34 @@ impl GaitCostModel {
         let (mean, latent) = match self.novelty_cache.get(&c) {
             Some((xc, m, v)) if xc[..] == x[..] => (*m, *v),
             _ => {
-                let p = self.gp.predict(x);
-                self.novelty_cache
-                    .insert(c, (x.to_vec(), p.mean, p.latent_variance));
-                (p.mean, p.latent_variance)
+                let alpha = match &self.alpha {
+                    Some(a) => a,
+                    None => self.alpha.insert(self.gp.alpha()),
+                };
+                let mean = self.gp.mean_with_alpha(alpha, x, &mut self.query_scratch);
+                self.novelty_cache.insert(c, (x.to_vec(), mean, f64::NAN));
+                (mean, f64::NAN)
             }
         };
-        let noisy = latent.max(0.0) + self.params.gp.noise_variance;
-        (mean - z).abs() > 2.0 * noisy.sqrt()
+        // The latent variance lies in [0, σ_f²]: outside the band those bounds leave open the
+        // test is decided by the O(n·dim) mean alone, and only inside it is the O(n²)
+        // variance computed (then cached too).
+        let sn2 = self.params.gp.noise_variance;
+        let deviation = (mean - z).abs();
+        if deviation > 2.0 * (self.gp.params().kernel.prior_variance() + sn2).sqrt() {
+            return true;
+        }
+        if deviation <= 2.0 * sn2.sqrt() {
+            return false;
+        }
+        let latent = if latent.is_nan() {
+            let v = self.gp.predict(x).latent_variance;
+            self.novelty_cache.insert(c, (x.to_vec(), mean, v));
+            v
+        } else {
+            latent
+        };
+        deviation > 2.0 * (latent.max(0.0) + sn2).sqrt()
     }
 
     /// Makes the learning pair of `cell` match its current cost and descriptor: add, replace or
@@ -552,6 +578,7 @@ impl GaitCostModel {
         // Alg. 5 lines 4–6: L = described cells with a measured cost. Targets that merely
         // changed are applied together at the end (one solve for all of them).
         self.novelty_cache.clear();
+        self.alpha = None;
         let mut new_targets: Vec<(Cell, f64)> = Vec::new();
         for k in 0..self.measured.len() {
             let cell = self.measured[k];

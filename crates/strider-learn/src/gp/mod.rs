@@ -552,32 +552,51 @@ impl Gp {
             mean.fill(m);
             return Ok(());
         }
+        let alpha = self.alpha();
+        mean.par_chunks_mut(QUERY_BLOCK)
+            .zip(xs.par_chunks(QUERY_BLOCK * self.dim))
+            .for_each(|(mc, qx)| {
+                let mut q = vec![0.0; self.dim];
+                for (mj, xq) in mc.iter_mut().zip(qx.chunks_exact(self.dim)) {
+                    *mj = self.mean_with_alpha(&alpha, xq, &mut q);
+                }
+            });
+        Ok(())
+    }
+
+    /// α = K_y⁻¹(y − m) = L⁻ᵀw (one O(n²) triangular solve), with which a mean costs O(n·dim):
+    /// [`Gp::mean_with_alpha`]. Valid until the training set changes.
+    pub fn alpha(&self) -> Vec<f64> {
+        let n = self.len();
+        if n == 0 {
+            return Vec::new();
+        }
         let mut alpha = faer::Mat::<f64>::from_fn(n, 1, |i, _| self.w[i]);
         faer::linalg::triangular_solve::solve_upper_triangular_in_place(
             self.factor.view().transpose(),
             alpha.as_mut(),
             Par::Seq,
         );
-        let alpha: Vec<f64> = (0..n).map(|i| alpha[(i, 0)]).collect();
-        let d = self.dim;
+        (0..n).map(|i| alpha[(i, 0)]).collect()
+    }
+
+    /// The predictive mean m + k*ᵀα at `x` from `alpha` = [`Gp::alpha`] of this training set;
+    /// `scratch` holds the scaled query (resized to `dim`).
+    ///
+    /// # Panics
+    /// If `x.len() != dim()` or `alpha` is not of length `len()`.
+    pub fn mean_with_alpha(&self, alpha: &[f64], x: &[f64], scratch: &mut Vec<f64>) -> f64 {
+        assert_eq!(x.len(), self.dim, "query of the wrong dimension");
+        assert_eq!(alpha.len(), self.len(), "alpha of another training set");
+        scratch.clear();
+        scratch.extend(x.iter().zip(&self.inv_l).map(|(xk, il)| xk * il));
         let kind = self.params.kernel.kind;
         let s2 = self.params.kernel.signal_variance;
-        mean.par_chunks_mut(QUERY_BLOCK)
-            .zip(xs.par_chunks(QUERY_BLOCK * d))
-            .for_each(|(mc, qx)| {
-                let mut q = vec![0.0; d];
-                for (mj, xq) in mc.iter_mut().zip(qx.chunks_exact(d)) {
-                    for ((qk, xk), il) in q.iter_mut().zip(xq).zip(&self.inv_l) {
-                        *qk = xk * il;
-                    }
-                    let mut acc = 0.0;
-                    for (xi, a) in self.xs.chunks_exact(d).zip(&alpha) {
-                        acc += a * k_of_r2(kind, s2, sq_dist(xi, &q));
-                    }
-                    *mj = m + acc;
-                }
-            });
-        Ok(())
+        let mut acc = 0.0;
+        for (xi, a) in self.xs.chunks_exact(self.dim).zip(alpha) {
+            acc += a * k_of_r2(kind, s2, sq_dist(xi, scratch));
+        }
+        self.params.prior_mean + acc
     }
 
     /// The log marginal likelihood ln p(y | X) = −½ wᵀw − Σ ln L_ii − (n/2) ln 2π (0 for n = 0).
