@@ -158,6 +158,15 @@ pub struct CellCost {
     pub count: u32,
 }
 
+/// Learning pairs new in an update, added to the GP together.
+#[derive(Default)]
+struct NewPairs {
+    cells: Vec<Cell>,
+    /// Descriptors, row-major.
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+}
+
 /// What [`GaitCostModel::insert_measurement`] did.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Insertion {
@@ -526,13 +535,15 @@ impl GaitCostModel {
         deviation > 2.0 * (latent.max(0.0) + sn2).sqrt()
     }
 
-    /// Makes the learning pair of `cell` match its current cost and descriptor: add, replace or
-    /// remove its GP training point. A pair whose descriptor is unchanged but whose target
-    /// changed is not touched: its new target is returned for a batched [`Gp::set_ys`].
+    /// Makes the learning pair of `cell` match its current cost and descriptor: add (to `added`,
+    /// for one [`Gp::extend`] at the end), replace or remove its GP training point. A pair
+    /// whose descriptor is unchanged but whose target changed is not touched: its new target is
+    /// returned for a batched [`Gp::set_ys`].
     fn sync_learning_pair(
         &mut self,
         cell: Cell,
         desc: &DescriptorField,
+        added: &mut NewPairs,
     ) -> Result<Option<f64>, CostModelError> {
         let cost = self.costs.get(&cell).map(|k| k.cost);
         let x = desc.get(cell);
@@ -547,9 +558,9 @@ impl GaitCostModel {
                 }
             }
             (None, Some(y), Some(x)) => {
-                self.gp.push(x, y)?;
-                self.learn_index.insert(cell, self.learn_cells.len());
-                self.learn_cells.push(cell);
+                added.cells.push(cell);
+                added.xs.extend_from_slice(x);
+                added.ys.push(y);
             }
             (Some(i), _, _) => {
                 self.gp.remove(i)?;
@@ -580,11 +591,19 @@ impl GaitCostModel {
         self.novelty_cache.clear();
         self.alpha = None;
         let mut new_targets: Vec<(Cell, f64)> = Vec::new();
+        let mut added = NewPairs::default();
         for k in 0..self.measured.len() {
             let cell = self.measured[k];
-            if let Some(y) = self.sync_learning_pair(cell, desc)? {
+            if let Some(y) = self.sync_learning_pair(cell, desc, &mut added)? {
                 new_targets.push((cell, y));
             }
+        }
+        // New pairs join the GP in one block (one blocked solve instead of one streaming
+        // solve of L each), after every removal and replacement of this update.
+        self.gp.extend(&added.xs, &added.ys)?;
+        for cell in added.cells {
+            self.learn_index.insert(cell, self.learn_cells.len());
+            self.learn_cells.push(cell);
         }
         let changes: Vec<(usize, f64)> = new_targets
             .iter()

@@ -133,6 +133,43 @@ proptest! {
         }
     }
 
+    /// Points added in blocks by `extend` (after some pushed one by one) give the model of a
+    /// dense solve, and the same as pushing them one by one.
+    #[test]
+    fn extend_equals_push_and_dense_solve(
+        seed in 0u64..1_000_000,
+        n0 in 0usize..12,
+        k in 0usize..20,
+        d in 1usize..4,
+        kind in 0usize..4,
+        noise in 0.01f64..1.0,
+        m in -1.0f64..1.0,
+    ) {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let n = n0 + k;
+        let (x, y) = random_data(&mut rng, n, d);
+        let p = params(KINDS[kind], vec![0.6], rng.random_range(0.5..2.0), noise, m);
+        let mut pushed = Gp::new(d, p.clone()).unwrap();
+        for i in 0..n {
+            pushed.push(&x[i * d..(i + 1) * d], y[i]).unwrap();
+        }
+        let mut extended = Gp::new(d, p.clone()).unwrap();
+        extended.extend(&x[..n0 * d], &y[..n0]).unwrap();
+        extended.extend(&x[n0 * d..], &y[n0..]).unwrap();
+        prop_assert_eq!(extended.len(), n);
+        for i in 0..n {
+            prop_assert_eq!(extended.x(i), &x[i * d..(i + 1) * d]);
+            prop_assert_eq!(extended.y(i), y[i]);
+        }
+        prop_assert!((extended.log_marginal_likelihood() - pushed.log_marginal_likelihood()).abs() < 1e-8);
+        let queries: Vec<f64> = (0..5 * d).map(|_| rng.random_range(-1.5..1.5)).collect();
+        for q in queries.chunks_exact(d) {
+            let naive = naive_predict(&p, d, &x, &y, q);
+            assert_close(pred(&extended, q), naive, 1e-8, "extended vs naive");
+            assert_close(pred(&extended, q), pred(&pushed, q), 1e-10, "extended vs pushed");
+        }
+    }
+
     /// Removing or replacing points and changing targets (one or several at once) equals a
     /// refit of the remaining set.
     #[test]
@@ -243,6 +280,36 @@ fn duplicate_inputs_work_with_and_without_noise() {
     }
     assert!(gp1.jitter() > 0.0);
     assert!((gp1.predict(&[0.1]).mean - 1.0).abs() < 1e-3);
+}
+
+#[test]
+fn extend_escalates_the_jitter_on_duplicates_and_rejects_bad_input_atomically() {
+    let x = [0.1, 0.5, 0.1, 0.1, 0.9];
+    let y = [1.0, 0.0, 1.2, 0.8, -1.0];
+    let p0 = params(KernelKind::SquaredExponential, vec![0.3], 1.0, 0.0, 0.0);
+    // Noise-free duplicates: the block stops at the third point and the rest is pushed with
+    // the jitter ladder, as pushing one by one does.
+    let mut ext = Gp::new(1, p0.clone()).unwrap();
+    ext.extend(&x, &y).unwrap();
+    let mut pushed = Gp::new(1, p0).unwrap();
+    for (xi, yi) in x.iter().zip(&y) {
+        pushed.push(&[*xi], *yi).unwrap();
+    }
+    assert_eq!(ext.len(), 5);
+    assert_eq!(ext.jitter(), pushed.jitter());
+    assert!(ext.jitter() > 0.0);
+    for q in [0.1, 0.3, 0.9] {
+        assert_close(pred(&ext, &[q]), pred(&pushed, &[q]), 1e-8, "duplicates");
+    }
+    // A non-finite value or a length mismatch changes nothing.
+    let before = pred(&ext, &[0.3]);
+    assert!(matches!(
+        ext.extend(&[0.2, f64::NAN], &[1.0, 2.0]),
+        Err(GpError::NonFinite { .. })
+    ));
+    assert!(ext.extend(&[0.2, 0.3], &[1.0]).is_err());
+    assert_eq!(ext.len(), 5);
+    assert_eq!(pred(&ext, &[0.3]), before);
 }
 
 #[test]

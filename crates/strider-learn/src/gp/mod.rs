@@ -355,6 +355,106 @@ impl Gp {
         Ok(())
     }
 
+    /// Adds training points (`xs`: k × dim row-major, `ys`: k targets) in order, as k calls of
+    /// [`Gp::push`] would, but with one blocked triangular solve V = L⁻¹K(X, X_new) for all of
+    /// them (compute-bound, where k separate forward substitutions each stream L through
+    /// memory) and a k × k Cholesky of the Schur complement for their own rows. A point whose
+    /// pivot is not positive, and every later one, goes through [`Gp::push`] (jitter
+    /// escalation). Validation is atomic: on a bad point or length nothing changes.
+    pub fn extend(&mut self, xs: &[f64], ys: &[f64]) -> Result<(), GpError> {
+        let (d, n, k) = (self.dim, self.len(), ys.len());
+        if xs.len() != k * d {
+            return Err(GpError::BadDimension(format!(
+                "{} input values for {} targets of dimension {}",
+                xs.len(),
+                k,
+                d
+            )));
+        }
+        for (j, (x, &y)) in xs.chunks_exact(d).zip(ys).enumerate() {
+            check_point(x, n + j)?;
+            check_y(y, n + j)?;
+        }
+        if k == 0 {
+            return Ok(());
+        }
+        let kind = self.params.kernel.kind;
+        let s2 = self.params.kernel.signal_variance;
+        let new_q = scale_points(xs, &self.inv_l);
+        // V = L⁻¹ K(X, X_new), column-major n × k.
+        let mut v = vec![0.0; n * k];
+        if n > 0 {
+            v.par_chunks_mut(n)
+                .zip(new_q.par_chunks(d))
+                .for_each(|(col, qj)| {
+                    for (c, xi) in col.iter_mut().zip(self.xs.chunks_exact(d)) {
+                        *c = k_of_r2(kind, s2, sq_dist(xi, qj));
+                    }
+                });
+            let vm = faer::MatMut::from_column_major_slice_mut(&mut v, n, k);
+            solve_lower_triangular_in_place(self.factor.view(), vm, Par::rayon(0));
+        }
+        // Rows of the new points, one at a time: row j = [V[:, j], L22[j, ..j]] and its pivot,
+        // exactly the forward substitution a push would do.
+        let sn2 = self.params.noise_variance;
+        let min_pivot2 = self.min_pivot2();
+        let mut l22: Vec<Vec<f64>> = Vec::with_capacity(k);
+        for j in 0..k {
+            let vj = &v[j * n..(j + 1) * n];
+            let qj = &new_q[j * d..(j + 1) * d];
+            let mut tail = Vec::with_capacity(j + 1);
+            for (i, li) in l22.iter().enumerate() {
+                let vi = &v[i * n..(i + 1) * n];
+                let kij = k_of_r2(kind, s2, sq_dist(&new_q[i * d..(i + 1) * d], qj));
+                let r = (kij - dot(vi, vj) - dot(&li[..i], &tail[..i])) / li[i];
+                tail.push(r);
+            }
+            let pivot2 = s2 + sn2 + self.jitter - dot(vj, vj) - dot(&tail, &tail);
+            if !(pivot2.is_finite() && pivot2 > min_pivot2) {
+                // Commit the rows so far, then the rest one by one (jitter escalation).
+                self.commit_rows(&v, n, &l22, &xs[..j * d], &ys[..j], &new_q[..j * d]);
+                for (x, &y) in xs[j * d..].chunks_exact(d).zip(&ys[j..]) {
+                    self.push(x, y)?;
+                }
+                return Ok(());
+            }
+            tail.push(pivot2.sqrt());
+            l22.push(tail);
+        }
+        self.commit_rows(&v, n, &l22, xs, ys, &new_q);
+        Ok(())
+    }
+
+    /// Appends the rows computed by [`Gp::extend`] (V's columns and L22's rows) with their
+    /// points, extending w by forward substitution.
+    fn commit_rows(
+        &mut self,
+        v: &[f64],
+        n: usize,
+        l22: &[Vec<f64>],
+        xs: &[f64],
+        ys: &[f64],
+        new_q: &[f64],
+    ) {
+        let m = self.params.prior_mean;
+        let mut row = Vec::with_capacity(n + l22.len());
+        for (j, (lj, &y)) in l22.iter().zip(ys).enumerate() {
+            row.clear();
+            row.extend_from_slice(&v[j * n..(j + 1) * n]);
+            row.extend_from_slice(&lj[..j]);
+            let piv = lj[j];
+            let wn = (y - m - dot(&row, &self.w)) / piv;
+            self.factor.push_row(&row, piv);
+            self.w.push(wn);
+            self.y.push(y);
+            self.psi.push(1.0);
+            self.perm.push(self.len() - 1);
+        }
+        let k = l22.len();
+        self.x.extend_from_slice(&xs[..k * self.dim]);
+        self.xs.extend_from_slice(&new_q[..k * self.dim]);
+    }
+
     /// Removes training point `i` in O(n²) (rank-1 update of the trailing block of L); the later
     /// indices shift down by one.
     pub fn remove(&mut self, i: usize) -> Result<(), GpError> {
