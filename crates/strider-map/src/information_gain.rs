@@ -925,10 +925,12 @@ fn collect_gains(candidates: Vec<Cell>, counts: Vec<u32>) -> InfoGain {
 /// Above disc size / this many changed cells within r_sensor + 1 of a cached candidate, its
 /// Eq. 11 sum is evaluated afresh instead of updated. An update looks up ~9 stored visibility
 /// bits per changed cell and casts only the sight lines in the shadow of changed cells that
-/// rise above the candidate; a fresh evaluation makes about two passes over the disc and casts
-/// its maybe-blocked targets (measured on courtyard-small: /32 lowers the worst spatial update
-/// from 87 to 33–47 ms against /160).
-const DELTA_CHANGES_PER_DISC: usize = 32;
+/// rise above the candidate (most of them settled by per-cell tests, see
+/// `GainView::delta_count`); a fresh evaluation makes about two passes over the disc and casts
+/// its maybe-blocked targets. Measured worst spatial update on courtyard-large (whole mission):
+/// /2 108 ms, /8 128 ms, /32 295 ms; on courtyard-small /2 9–10 ms against 23–30 ms for /32.
+/// (Before the per-cell tests, /32 beat /160 on courtyard-small: 33–47 against 87 ms.)
+const DELTA_CHANGES_PER_DISC: usize = 2;
 
 /// Sentinel of [`GainCache`]: no cached value.
 const NOT_CACHED: u32 = u32::MAX;
