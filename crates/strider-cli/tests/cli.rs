@@ -375,6 +375,7 @@ fn run_writes_a_deterministic_report() {
             "wall_time_s",
             "speedup",
             "replan_latency_ms",
+            "goals_to_tour_ms",
             "replan_parts_ms",
             "goal_identification_ms",
             "phase_wall_s",

@@ -122,6 +122,12 @@ pub struct MissionLog {
     pub replan_ms: Vec<f64>,
     /// The parts of each replan, in the order of `replan_ms`.
     pub replan_parts: Vec<ReplanParts>,
+    /// Per replan, in the order of `replan_ms`: the replan plus the latest spatial goal
+    /// identification and the latest learning update (with its cost goals) that ran since the
+    /// previous replan, ms: the time from the newest data to a new tour when the modules run
+    /// one after the other. Earlier runs between two replans were superseded by the latest and
+    /// are not on that path.
+    pub goals_to_tour_ms: Vec<f64>,
     /// Wall-clock latency of each spatial goal identification (passability, reachability,
     /// Eq. 11, Alg. 3), ms.
     pub spatial_goal_ms: Vec<f64>,
@@ -234,6 +240,9 @@ pub struct Mission {
     view_key: Option<(u64, u64, CostMode)>,
     /// What the spatial goals were computed from: scans fused, anchor cell, visited goals.
     spatial_key: Option<(u64, Option<Cell>, usize)>,
+    /// Wall time of the latest spatial and learning runs since the last replan, ms (see
+    /// `MissionLog::goals_to_tour_ms`).
+    goal_ms_since_replan: (f64, f64),
     /// Learning updates so far.
     learn_generation: u64,
     /// Offsets of the 3·r_robot disc the anchor cell is searched in (nearest first).
@@ -313,6 +322,7 @@ impl Mission {
             log: MissionLog {
                 run: RunRecord::new(Termination::TimeLimit),
                 replan_ms: Vec::new(),
+                goals_to_tour_ms: Vec::new(),
                 replan_parts: Vec::new(),
                 spatial_goal_ms: Vec::new(),
                 learning_ms: Vec::new(),
@@ -340,6 +350,7 @@ impl Mission {
             view: None,
             view_key: None,
             spatial_key: None,
+            goal_ms_since_replan: (0.0, 0.0),
             learn_generation: 0,
             anchor_offsets: strider_core::grid::disc_offsets(
                 3.0 * params.map.r_robot,
@@ -561,9 +572,9 @@ impl Mission {
                 .retain(|g| visited.iter().all(|v| v.dist_cells(g.cell) > r));
             self.spatial_once = true;
         }
-        self.log
-            .spatial_goal_ms
-            .push(w.elapsed().as_secs_f64() * 1e3);
+        let ms = w.elapsed().as_secs_f64() * 1e3;
+        self.log.spatial_goal_ms.push(ms);
+        self.goal_ms_since_replan.0 = ms;
     }
 
     /// Alg. 6 for every gait: descriptors, then each model's update.
@@ -597,7 +608,9 @@ impl Mission {
         if self.params.strategy != Strategy::SpatialOnly && !self.passive {
             self.refresh_view(CostMode::Learned);
         }
-        self.log.learning_ms.push(w.elapsed().as_secs_f64() * 1e3);
+        let ms = w.elapsed().as_secs_f64() * 1e3;
+        self.log.learning_ms.push(ms);
+        self.goal_ms_since_replan.1 = ms;
     }
 
     /// The goal set pursued by the strategy.
@@ -734,7 +747,12 @@ impl Mission {
             }
         }
         self.view = view;
-        self.log.replan_ms.push(w.elapsed().as_secs_f64() * 1e3);
+        let ms = w.elapsed().as_secs_f64() * 1e3;
+        self.log.replan_ms.push(ms);
+        self.log
+            .goals_to_tour_ms
+            .push(ms + self.goal_ms_since_replan.0 + self.goal_ms_since_replan.1);
+        self.goal_ms_since_replan = (0.0, 0.0);
         self.log.replan_parts.push(ReplanParts {
             t,
             view_ms,
