@@ -133,8 +133,8 @@ proptest! {
         }
     }
 
-    /// Points added in blocks by `extend` (after some pushed one by one) give the model of a
-    /// dense solve, and the same as pushing them one by one.
+    /// Points added by `extend` in two blocks (the second extending a non-empty GP) give the
+    /// model of a dense solve, and the same as pushing them one by one.
     #[test]
     fn extend_equals_push_and_dense_solve(
         seed in 0u64..1_000_000,

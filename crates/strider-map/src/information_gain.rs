@@ -653,12 +653,30 @@ impl GainView {
 /// against rounding, so a `false` is safe: the cell cannot change that sight line.
 #[inline]
 fn touches_sight_line(xi: i32, xj: i32, ti: i32, tj: i32, z: f64, zs: f64, zt: f64) -> bool {
-    const SLACK: f64 = 1e-6;
-    // Parameter interval of the segment (0, 0) → (ti, tj) (cell units, centres) within the
-    // slab [lo, lo + 1 + 2·SLACK] of one axis.
+    let (t0, t1) = cell_span(xi, xj, ti, tj, 1e-6);
+    t0 <= t1 && z > lowest_on(t0, t1, zs, zt) - 1e-9
+}
+
+/// Whether a cell of height `z` at offset `(xi, xj)` from the sensor cell certainly blocks the
+/// sight line to the target at offset `(ti, tj)` (see [`touches_sight_line`]): the segment
+/// crosses the cell's interior over more than 1e-6 of its length and dips more than 1e-9 m
+/// below `z` there. [`ray_clear_in`] then reports the line blocked, whatever the rounding of
+/// its traversal. The cell must be neither the sensor's nor the target's.
+#[inline]
+fn crosses_below(xi: i32, xj: i32, ti: i32, tj: i32, z: f64, zs: f64, zt: f64) -> bool {
+    let (t0, t1) = cell_span(xi, xj, ti, tj, 0.0);
+    t1 - t0 > 1e-6 && z > lowest_on(t0, t1, zs, zt) + 1e-9
+}
+
+/// The parameter interval `[t0, t1]` ⊂ [0, 1] of the segment from the sensor cell's centre
+/// (0, 0) to the target's centre `(ti, tj)` (cell units) inside the cell at `(xi, xj)` grown by
+/// `grow` cells on every side (`grow` < ½); `t0 > t1` when they do not meet.
+#[inline]
+fn cell_span(xi: i32, xj: i32, ti: i32, tj: i32, grow: f64) -> (f64, f64) {
     let slab = |x: i32, dx: i32| -> (f64, f64) {
-        let (lo, hi) = (x as f64 - 0.5 - SLACK, x as f64 + 0.5 + SLACK);
+        let (lo, hi) = (x as f64 - 0.5 - grow, x as f64 + 0.5 + grow);
         if dx == 0 {
+            // The segment runs along this axis at 0, inside the slab only for x = 0.
             if lo <= 0.0 && 0.0 <= hi {
                 (f64::NEG_INFINITY, f64::INFINITY)
             } else {
@@ -672,48 +690,16 @@ fn touches_sight_line(xi: i32, xj: i32, ti: i32, tj: i32, z: f64, zs: f64, zt: f
     };
     let (x0, x1) = slab(xi, ti);
     let (y0, y1) = slab(xj, tj);
-    let (t0, t1) = (x0.max(y0).max(0.0), x1.min(y1).min(1.0));
-    if t0 > t1 {
-        return false;
-    }
-    // The segment's lowest point over the cell is at an end of the interval.
-    let z_min = zs + (zt - zs) * if zt < zs { t1 } else { t0 };
-    z > z_min - 1e-9
+    (x0.max(y0).max(0.0), x1.min(y1).min(1.0))
 }
 
-/// Whether a cell of height `z` at offset `(xi, xj)` from the sensor cell certainly blocks the
-/// sight line to the target at offset `(ti, tj)` (see [`touches_sight_line`]): the segment
-/// crosses the cell's interior over more than 1e-6 of its length and dips more than 1e-9 m
-/// below `z` there. [`ray_clear_in`] then reports the line blocked, whatever the rounding of
-/// its traversal. The cell must be neither the sensor's nor the target's.
+/// The segment's lowest height over `[t0, t1]` (heights `zs` at 0 and `zt` at 1): linear, so
+/// at an end of the interval.
 #[inline]
-fn crosses_below(xi: i32, xj: i32, ti: i32, tj: i32, z: f64, zs: f64, zt: f64) -> bool {
-    let slab = |x: i32, dx: i32| -> (f64, f64) {
-        let (lo, hi) = (x as f64 - 0.5, x as f64 + 0.5);
-        if dx == 0 {
-            if lo < 0.0 && 0.0 < hi {
-                (f64::NEG_INFINITY, f64::INFINITY)
-            } else {
-                (f64::INFINITY, f64::NEG_INFINITY)
-            }
-        } else {
-            let inv = 1.0 / dx as f64;
-            let (a, b) = (lo * inv, hi * inv);
-            (a.min(b), a.max(b))
-        }
-    };
-    let (x0, x1) = slab(xi, ti);
-    let (y0, y1) = slab(xj, tj);
-    let (t0, t1) = (x0.max(y0).max(0.0), x1.min(y1).min(1.0));
-    if t1 - t0 <= 1e-6 {
-        return false;
-    }
-    // The segment's lowest point over the cell is at an end of the interval.
-    let z_min = zs + (zt - zs) * if zt < zs { t1 } else { t0 };
-    z > z_min + 1e-9
+fn lowest_on(t0: f64, t1: f64, zs: f64, zt: f64) -> f64 {
+    zs + (zt - zs) * if zt < zs { t1 } else { t0 }
 }
 
-/// Sets bits `lo..=hi` of the bit set `v` (nothing when `lo > hi`).
 #[inline]
 fn set_bits(v: &mut [u64], lo: usize, hi: usize) {
     if lo > hi {
