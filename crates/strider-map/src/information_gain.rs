@@ -67,10 +67,6 @@ struct DiscTable {
     /// distance. The delta update scans this instead of searching each bin.
     near_start: Vec<u32>,
     near: Vec<u32>,
-    /// Number of distance slots ([`DiscTable::slot`]) up to the disc's edge, and the `u64`
-    /// words that hold one bit per slot.
-    slots: usize,
-    slot_words: usize,
 }
 
 #[derive(Clone, Copy)]
@@ -130,8 +126,6 @@ impl DiscTable {
         for b in 0..ANGLE_BINS {
             by_bin_start[b + 1] += by_bin_start[b];
         }
-        let max_r = entries.iter().map(|e| e.r).fold(0.0f32, f32::max);
-        let slots = Self::slot(max_r) + 1;
         let mut near_start = Vec::with_capacity(entries.len() + 1);
         let mut near = Vec::new();
         near_start.push(0u32);
@@ -160,17 +154,7 @@ impl DiscTable {
             by_bin: order,
             near_start,
             near,
-            slots,
-            slot_words: slots.div_ceil(64),
         }
-    }
-
-    /// The distance slot of centre distance `r` (cells): half-cell slots from the centre.
-    /// Monotone, so a target within a shadow interval lies within its slot range.
-    #[inline]
-    fn slot(r: f32) -> usize {
-        // Saturating: negative distances fall in slot 0, huge ones past the last slot.
-        (r * 2.0) as usize
     }
 
     /// The entries a cell at entry `k` can shadow within [`NEAR_SHADOW`] of its centre
@@ -281,9 +265,6 @@ fn elevation_in(elev: &[f32], rect: CellRect, c: Cell) -> Option<f32> {
 struct Scratch {
     /// Unknown targets of the disc: (entry index, 9·I_cell).
     targets: Vec<(u32, u8)>,
-    /// Shadow coverage: per direction bin, one bit per distance slot (see
-    /// [`DiscTable::slot`]) that some raised cell may shadow.
-    covered: Vec<u64>,
     /// Disc entries already visited by a delta update (== `stamp`).
     seen: Vec<u32>,
     stamp: u32,
@@ -398,9 +379,7 @@ impl GainView {
         }
         let zs = ef as f64 + h;
         let zt = target_height(None, ef);
-        let Scratch {
-            targets, covered, ..
-        } = scratch;
+        let targets = &mut scratch.targets;
         targets.clear();
         let mut ray_work = 0usize;
         for (k, e) in disc.entries.iter().enumerate() {
@@ -432,14 +411,11 @@ impl GainView {
         }
         // Only known cells above min(sensor, target) = ef can block a ray to an unknown
         // target, and only over their shadow interval of target distances. Each such cell
-        // marks that interval's distance slots in the direction bins it subtends; targets in
-        // no marked slot of their direction are clear without casting (exact: a ray meets a
-        // cell only within its angular extent, and a slightly raised cell shadows only the
-        // targets just behind it, so the floor's millimetre noise marks little).
-        let words = disc.slot_words;
-        let last = disc.slots - 1;
-        covered.clear();
-        covered.resize(ANGLE_BINS * words, 0);
+        // marks the direction bins it subtends with that interval (kept as the hull per bin);
+        // targets outside every interval of their direction are clear without casting (exact:
+        // a ray meets a cell only within its angular extent, and a slightly raised cell
+        // shadows only the targets just behind it).
+        let mut shadow = [(f32::INFINITY, f32::NEG_INFINITY); ANGLE_BINS];
         // Per bin, the distance beyond which a cell higher than the sensor certainly hides the
         // target: the sight line crosses that cell's interior (inner bins) and never rises
         // above the sensor, so it runs below the cell's top there.
@@ -458,10 +434,10 @@ impl GainView {
                 continue;
             }
             let (start, end) = shadow_interval(e.r, z, zs, zt);
-            let (s0, s1) = (DiscTable::slot(start), DiscTable::slot(end).min(last));
             for &(a, b) in e.spans() {
-                for bin in a as usize..=b as usize {
-                    set_bits(&mut covered[bin * words..(bin + 1) * words], s0, s1);
+                for m in &mut shadow[a as usize..=b as usize] {
+                    m.0 = m.0.min(start);
+                    m.1 = m.1.max(end);
                 }
             }
             if z as f64 > zs && e.inner.0 <= e.inner.1 {
@@ -475,8 +451,10 @@ impl GainView {
         let mut sum = 0u32;
         for &(k, g) in targets.iter() {
             let e = disc.entries[k as usize];
-            let maybe_blocked =
-                any_tall && get_bit(&covered[e.bin as usize * words..], DiscTable::slot(e.r));
+            let maybe_blocked = any_tall && {
+                let (lo, hi) = shadow[e.bin as usize];
+                e.r >= lo && e.r <= hi
+            };
             if maybe_blocked && e.r >= hidden_from[e.bin as usize] {
                 continue;
             }
@@ -698,25 +676,6 @@ fn cell_span(xi: i32, xj: i32, ti: i32, tj: i32, grow: f64) -> (f64, f64) {
 #[inline]
 fn lowest_on(t0: f64, t1: f64, zs: f64, zt: f64) -> f64 {
     zs + (zt - zs) * if zt < zs { t1 } else { t0 }
-}
-
-#[inline]
-fn set_bits(v: &mut [u64], lo: usize, hi: usize) {
-    if lo > hi {
-        return;
-    }
-    let (wl, wh) = (lo / 64, hi / 64);
-    let head = !0u64 << (lo % 64);
-    let tail = !0u64 >> (63 - hi % 64);
-    if wl == wh {
-        v[wl] |= head & tail;
-    } else {
-        v[wl] |= head;
-        for w in &mut v[wl + 1..wh] {
-            *w = !0;
-        }
-        v[wh] |= tail;
-    }
 }
 
 #[inline]
@@ -1266,17 +1225,6 @@ mod tests {
             cache.compute(m, &reach, None),
             information_gain(m, &reach, None),
         )
-    }
-
-    #[test]
-    fn set_bits_sets_exactly_the_range() {
-        for (lo, hi) in [(0, 0), (3, 70), (64, 127), (5, 200), (63, 64), (9, 8)] {
-            let mut v = vec![0u64; 4];
-            set_bits(&mut v, lo, hi);
-            for k in 0..256 {
-                assert_eq!(get_bit(&v, k), (lo..=hi).contains(&k), "{lo}..={hi} at {k}");
-            }
-        }
     }
 
     #[test]
