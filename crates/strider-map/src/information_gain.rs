@@ -480,11 +480,11 @@ impl GainView {
     /// of its two elevations, which covers both views). Targets of (b) are cast again in the
     /// new view; for the others of (a) the sight line is unchanged and the stored bit serves.
     ///
-    /// Two exact per-cell tests spare most of (b)'s casts: a target whose sight line the
-    /// changed cell does not reach in either view ([`touches_sight_line`]) is left to the
-    /// other changed cells, and one whose line it now crosses below its top
-    /// ([`crosses_below`]) is blocked without a cast. On `courtyard-large` they cut the delta
-    /// updates' time roughly in half.
+    /// Two safe per-cell tests (conservative, with margins against rounding) spare most of
+    /// (b)'s casts: a target whose sight line the changed cell does not reach in either view
+    /// ([`touches_sight_line`]) is left to the other changed cells, and one whose line it now
+    /// crosses below its top ([`crosses_below`]) is blocked without a cast. On
+    /// `courtyard-large` they cut the delta updates' time roughly in half.
     #[allow(clippy::too_many_arguments)]
     fn delta_count(
         &self,

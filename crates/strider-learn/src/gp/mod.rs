@@ -360,7 +360,8 @@ impl Gp {
     /// them (compute-bound, where k separate forward substitutions each stream L through
     /// memory) and a k × k Cholesky of the Schur complement for their own rows. A point whose
     /// pivot is not positive, and every later one, goes through [`Gp::push`] (jitter
-    /// escalation). Validation is atomic: on a bad point or length nothing changes.
+    /// escalation). Atomic: on a bad point or length, or when even the jitter ladder cannot
+    /// make a point fit, nothing changes (callers keep their own index of the points).
     pub fn extend(&mut self, xs: &[f64], ys: &[f64]) -> Result<(), GpError> {
         let (d, n, k) = (self.dim, self.len(), ys.len());
         if xs.len() != k * d {
@@ -411,10 +412,15 @@ impl Gp {
             }
             let pivot2 = s2 + sn2 + self.jitter - dot(vj, vj) - dot(&tail, &tail);
             if !(pivot2.is_finite() && pivot2 > min_pivot2) {
-                // Commit the rows so far, then the rest one by one (jitter escalation).
+                // Commit the rows so far, then the rest one by one (jitter escalation). Rare:
+                // the copy that keeps a failure atomic is affordable here.
+                let saved = self.clone();
                 self.commit_rows(&v, n, &l22, &xs[..j * d], &ys[..j], &new_q[..j * d]);
                 for (x, &y) in xs[j * d..].chunks_exact(d).zip(&ys[j..]) {
-                    self.push(x, y)?;
+                    if let Err(e) = self.push(x, y) {
+                        *self = saved;
+                        return Err(e);
+                    }
                 }
                 return Ok(());
             }
