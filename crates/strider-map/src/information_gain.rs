@@ -12,13 +12,13 @@
 //! work runs on a dense view of the known area grown by r_sensor, in parallel over candidates.
 
 use crate::map::ElevationMap;
-use crate::observability::{ray_clear_in, target_height};
+use crate::observability::{box_interval, ray_clear_in, target_height};
 use crate::passability::disc_reach;
 use crate::reachability::Reachability;
 use crate::rect::{self, WorldRect, in_bounds};
 use rayon::prelude::*;
 use strider_core::grid::{NEIGHBOURS8, disc_offsets};
-use strider_core::{Cell, CellRect};
+use strider_core::{Cell, CellRect, Point2};
 
 /// I_model (Eq. 11) of the candidate cells with non-zero gain.
 #[derive(Clone, Debug, Default)]
@@ -648,27 +648,18 @@ fn crosses_below(xi: i32, xj: i32, ti: i32, tj: i32, z: f64, zs: f64, zt: f64) -
 
 /// The parameter interval `[t0, t1]` ⊂ [0, 1] of the segment from the sensor cell's centre
 /// (0, 0) to the target's centre `(ti, tj)` (cell units) inside the cell at `(xi, xj)` grown by
-/// `grow` cells on every side (`grow` < ½); `t0 > t1` when they do not meet.
+/// `grow` cells on every side; `t0 > t1` when they do not meet.
 #[inline]
 fn cell_span(xi: i32, xj: i32, ti: i32, tj: i32, grow: f64) -> (f64, f64) {
-    let slab = |x: i32, dx: i32| -> (f64, f64) {
-        let (lo, hi) = (x as f64 - 0.5 - grow, x as f64 + 0.5 + grow);
-        if dx == 0 {
-            // The segment runs along this axis at 0, inside the slab only for x = 0.
-            if lo <= 0.0 && 0.0 <= hi {
-                (f64::NEG_INFINITY, f64::INFINITY)
-            } else {
-                (f64::INFINITY, f64::NEG_INFINITY)
-            }
-        } else {
-            let inv = 1.0 / dx as f64;
-            let (a, b) = (lo * inv, hi * inv);
-            (a.min(b), a.max(b))
-        }
-    };
-    let (x0, x1) = slab(xi, ti);
-    let (y0, y1) = slab(xj, tj);
-    (x0.max(y0).max(0.0), x1.min(y1).min(1.0))
+    let h = 0.5 + grow;
+    let (x, y) = (xi as f64, xj as f64);
+    box_interval(
+        Point2::new(0.0, 0.0),
+        ti as f64,
+        tj as f64,
+        Point2::new(x - h, y - h),
+        Point2::new(x + h, y + h),
+    )
 }
 
 /// The segment's lowest height over `[t0, t1]` (heights `zs` at 0 and `zt` at 1): linear, so

@@ -24,25 +24,38 @@ use strider_core::{Cell, CellRect, Point2};
 /// `c` (cell size `d`). A segment merely touching the cell yields a single point.
 #[inline]
 pub fn cell_interval(c: Cell, a: Point2, dx: f64, dy: f64, d: f64) -> (f64, f64) {
-    let slab = |lo: f64, p: f64, dp: f64| -> (f64, f64) {
-        if dp == 0.0 {
-            (f64::NEG_INFINITY, f64::INFINITY)
-        } else {
-            let t0 = (lo - p) / dp;
-            let t1 = (lo + d - p) / dp;
-            (t0.min(t1), t0.max(t1))
-        }
-    };
-    let (x0, x1) = slab(c.i as f64 * d, a.x, dx);
-    let (y0, y1) = slab(c.j as f64 * d, a.y, dy);
-    let t_in = x0.max(y0).max(0.0);
-    let t_out = x1.min(y1).min(1.0);
+    let lo = Point2::new(c.i as f64 * d, c.j as f64 * d);
+    let hi = Point2::new(lo.x + d, lo.y + d);
+    let (t_in, t_out) = box_interval(a, dx, dy, lo, hi);
     if t_in <= t_out {
         (t_in, t_out)
     } else {
         let m = 0.5 * (t_in + t_out);
         (m, m)
     }
+}
+
+/// The slab method: the parameter interval, clipped to [0, 1], of the segment `a + t·(dx, dy)`
+/// inside the closed box `[lo, hi]`; `t_in > t_out` when they do not meet.
+#[inline]
+pub(crate) fn box_interval(a: Point2, dx: f64, dy: f64, lo: Point2, hi: Point2) -> (f64, f64) {
+    let slab = |lo: f64, hi: f64, p: f64, dp: f64| -> (f64, f64) {
+        if dp == 0.0 {
+            // Parallel to the slab: inside for every t, or for none.
+            if lo <= p && p <= hi {
+                (f64::NEG_INFINITY, f64::INFINITY)
+            } else {
+                (f64::INFINITY, f64::NEG_INFINITY)
+            }
+        } else {
+            let t0 = (lo - p) / dp;
+            let t1 = (hi - p) / dp;
+            (t0.min(t1), t0.max(t1))
+        }
+    };
+    let (x0, x1) = slab(lo.x, hi.x, a.x, dx);
+    let (y0, y1) = slab(lo.y, hi.y, a.y, dy);
+    (x0.max(y0).max(0.0), x1.min(y1).min(1.0))
 }
 
 /// True when the segment from `(centre of from, sensor_z)` to `(centre of to, target_z)` is not
