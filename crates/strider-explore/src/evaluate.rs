@@ -18,7 +18,7 @@ use strider_core::grid::CellRay;
 use strider_core::interface::{Robot, SensorSink};
 use strider_core::{Cell, Point2, PoseStamped};
 use strider_learn::cost_model::GaitCostModel;
-use strider_learn::signals::{FallbackTimer, InverseVelocityCost};
+use strider_learn::signals::{FallbackTimer, HeadingChange, InverseVelocityCost};
 use strider_map::ElevationMap;
 use strider_plan::grid::Dijkstra;
 
@@ -90,6 +90,7 @@ pub struct TourResult {
 struct TourSink {
     pose: Option<PoseStamped>,
     signal: InverseVelocityCost,
+    turns: HeadingChange,
     moving: bool,
     trajectory: Vec<TrajectorySample>,
     poses: u64,
@@ -106,6 +107,7 @@ impl SensorSink for TourSink {
             return;
         }
         self.pose = Some(*pose);
+        self.turns.push(pose.stamp, pose.yaw);
         self.poses += 1;
         if self.poses % 10 == 1 {
             self.trajectory.push(TrajectorySample {
@@ -137,13 +139,16 @@ pub fn run_tour<R: Robot>(
     tour: &[Point2],
     mode: NavigationMode,
 ) -> Result<TourResult, MissionError> {
-    let signal = InverseVelocityCost::new(params.inverse_velocity())
+    let iv = params.inverse_velocity();
+    let turns = HeadingChange::new(iv.window_s, iv.window_s, iv.rate_hz)
         .map_err(|e| MissionError::Params(e.to_string()))?;
+    let signal = InverseVelocityCost::new(iv).map_err(|e| MissionError::Params(e.to_string()))?;
     let mut fallback =
         FallbackTimer::new(params.dt_fallback).map_err(|e| MissionError::Params(e.to_string()))?;
     let mut sink = TourSink {
         pose: None,
         signal,
+        turns,
         moving: false,
         trajectory: Vec::new(),
         poses: 0,
@@ -230,7 +235,9 @@ pub fn run_tour<R: Robot>(
                     robot.follow(q);
                 }
             }
-            let stuck = sink.signal.is_stuck();
+            // The mission's reflex: a window spent turning on the spot is not stuck.
+            let stuck = sink.signal.is_stuck()
+                && sink.turns.in_window() <= crate::mission::MAX_TURN_IN_WINDOW;
             fallback.update(t, stuck);
             let g = if fallback.is_active(t) {
                 fallback_ticks += 1;

@@ -11,9 +11,11 @@
 //! * a goal counts as reached when the robot is within 1.5 cells of its site or has finished
 //!   the path to it;
 //! * cost samples are taken only while the robot follows a path (a standing robot measures no
-//!   terrain) and not from windows in which it turned by more than 45° (turning in place at
-//!   path corners is the path's time, not the terrain's); the stuck reflex fires only while it
-//!   is commanded to move;
+//!   terrain) and not when it turned by more than 45° within the sample's support, the window
+//!   and the moving average before it (turning in place at path corners is the path's time, not
+//!   the terrain's, and one such window's ratio would enter Δt of smoothed samples); the stuck
+//!   reflex fires only while the robot is commanded to move and not over a window in which it
+//!   turned by more than 45° (a turn on the spot makes no headway but is not stuck);
 //! * at a reached spatial goal a robot whose sensors do not see all around turns once on the
 //!   spot, so a limited field of view sees the r_sensor disc Eq. 11 assumed; a reached spatial
 //!   goal is not pursued again within 2·r_robot;
@@ -31,16 +33,17 @@ use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{Cell, GaitId, Point2, PointCloud, PoseStamped};
 use strider_learn::cost_model::{CostGoal, GaitCostModel, ModelUpdate};
 use strider_learn::descriptor_field::DescriptorField;
-use strider_learn::signals::{FallbackTimer, InverseVelocityCost};
+use strider_learn::signals::{FallbackTimer, HeadingChange, InverseVelocityCost};
 use strider_map::descriptors::{TA_BINS, color_histograms};
 use strider_map::information_gain::GainCache;
 use strider_map::reachability::Reachability;
 use strider_map::{ElevationMap, SpatialGoal, cluster_information};
 use strider_plan::grid::Dijkstra;
 
-/// Cost windows in which the heading changed by more than this (summed |Δyaw|, rad) measure
-/// the path's turns rather than the terrain and are not stored.
-const MAX_TURN_IN_WINDOW: f64 = std::f64::consts::FRAC_PI_4;
+/// Cost samples whose support saw the heading change by more than this (summed |Δyaw|, rad)
+/// measure the path's turns rather than the terrain and are not stored; stuck windows that
+/// turned by more do not trigger the reflex.
+pub(crate) const MAX_TURN_IN_WINDOW: f64 = std::f64::consts::FRAC_PI_4;
 
 /// Elevation hysteresis of the incremental Eq. 11 ([`GainCache`]), metres: the order of the
 /// depth noise, so that the Kalman refinement of ground already seen does not re-evaluate the
@@ -229,9 +232,8 @@ pub struct Mission {
     log: MissionLog,
     path: crate::keyframes::PathRecorder,
     unreachable_since: Option<f64>,
-    /// (stamp, yaw, |Δyaw|) over the last cost window, and the sum of |Δyaw|.
-    turn_window: std::collections::VecDeque<(f64, f64, f64)>,
-    turn_sum: f64,
+    /// Heading change over the stuck test's window and over a cost sample's support.
+    turns: HeadingChange,
     /// Pose (x, y, yaw) of the last fused scan per sensor.
     keyframes: crate::keyframes::Keyframes,
     /// The latest planning view (per-gait grids for Alg. 4, the merged grid for paths).
@@ -270,6 +272,11 @@ impl Mission {
         if params.gaits.is_empty() || params.gaits.len() > u8::MAX as usize {
             return Err(MissionError::Params("the robot needs 1–255 gaits".into()));
         }
+        let turns = {
+            let iv = params.inverse_velocity();
+            HeadingChange::new(iv.window_s, iv.window_s + iv.smoothing_s, iv.rate_hz)
+                .map_err(|e| MissionError::Params(e.to_string()))?
+        };
         let signal = InverseVelocityCost::new(params.inverse_velocity())
             .map_err(|e| MissionError::Params(e.to_string()))?;
         let fallback = FallbackTimer::new(params.dt_fallback)
@@ -337,10 +344,7 @@ impl Mission {
             path: crate::keyframes::PathRecorder::default(),
             unreachable_since: None,
             keyframes: crate::keyframes::Keyframes::default(),
-            turn_window: std::collections::VecDeque::with_capacity(
-                (params.window_s * 40.0).ceil() as usize + 8,
-            ),
-            turn_sum: 0.0,
+            turns,
             visited: Vec::new(),
             gain: GainCache::new(GAIN_DZ),
             last_tour: Vec::new(),
@@ -481,8 +485,11 @@ impl Mission {
             if state.idle {
                 self.signal.reset();
             }
-            // Stuck reflex (decision 9), only while commanded to move.
-            let stuck = !state.idle && self.signal.is_stuck();
+            // Stuck reflex (decision 9), only while commanded to move and not over a window
+            // spent turning on the spot: that slowness is the commanded turn's, not the terrain's.
+            let stuck = !state.idle
+                && self.signal.is_stuck()
+                && self.turns.in_window() <= MAX_TURN_IN_WINDOW;
             let was = self.fallback.is_active(t);
             if self.fallback.update(t, stuck) && !was {
                 self.log.stuck_events += 1;
@@ -898,26 +905,12 @@ impl SensorSink for Mission {
         self.log.run.driven_m += d;
         self.log.run.trajectory.extend(sample);
         self.pose = Some(*pose);
-        // Heading change over the cost window (|Δyaw| summed), to drop windows with turns.
-        if let Some(prev) = self.turn_window.back().map(|&(_, y, _)| y) {
-            let dy = strider_core::geom::wrap_angle(pose.yaw - prev).abs();
-            self.turn_sum += dy;
-            self.turn_window.push_back((pose.stamp, pose.yaw, dy));
-        } else {
-            self.turn_window.push_back((pose.stamp, pose.yaw, 0.0));
-        }
-        while let Some(&(t, _, dy)) = self.turn_window.front() {
-            if t >= pose.stamp - self.params.window_s {
-                break;
-            }
-            self.turn_sum -= dy;
-            self.turn_window.pop_front();
-        }
+        self.turns.push(pose.stamp, pose.yaw);
         if !self.moving {
             return;
         }
         let sample = self.signal.push(pose, pose.gait);
-        if sample.is_some() && self.turn_sum > MAX_TURN_IN_WINDOW {
+        if sample.is_some() && self.turns.in_support() > MAX_TURN_IN_WINDOW {
             // The robot spent part of the window turning: that time is the path's, not the
             // terrain's.
             self.log.turn_skipped += 1;

@@ -12,6 +12,8 @@
 //!   a moving average over the last Δt of raw values, and transformed by
 //!   c = c_high · tanh((v⁻¹ / v_max⁻¹) / c_high) ([`tanh_bound`]). It also reports stuck
 //!   (decision 9: v⁻¹ / v_max⁻¹ > c_max over the window).
+//! * [`HeadingChange`] — |Δyaw| summed over the cost window and over a smoothed sample's support,
+//!   so that turns on the spot neither teach a cost nor trigger the stuck reflex.
 //! * [`FallbackTimer`] — the stuck reflex's timer (decision 9: the rough-terrain gait for
 //!   Δt_fallback).
 //! * [`RollVarianceCost`] — the variance of the body roll over a sliding window (`000` §IV: 10 s,
@@ -617,6 +619,128 @@ impl InverseVelocityCost {
         self.gait = None;
         self.last_ratio = None;
         self.stuck = false;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Heading change.
+
+/// The heading change |Δyaw| summed over two trailing spans of the pose stream: the cost window
+/// Δt, over which [`InverseVelocityCost::is_stuck`] measures v⁻¹, and a smoothed cost sample's
+/// whole *support* (the window plus the moving average before it, decision 8), every raw ratio
+/// of which enters the sample.
+///
+/// A robot that turns on the spot at a path corner makes no headway for the length of the turn:
+/// a window spanning the turn measures the path's corner, not the terrain, and reads as stuck.
+/// The mission drops such samples and does not let such windows trigger the reflex; a single
+/// turning window's ratio is in Δt worth of smoothed samples, hence the support span.
+#[derive(Clone, Debug)]
+pub struct HeadingChange {
+    window_s: f64,
+    support_s: f64,
+    /// (stamp, yaw, |Δyaw| from the previous pose) over the support span.
+    poses: Ring<(f64, f64, f64)>,
+    /// How many of the newest `poses` lie in the window span.
+    in_window_len: usize,
+    sum_window: f64,
+    sum_support: f64,
+    skips: SkipCounts,
+}
+
+impl HeadingChange {
+    /// A tracker over a `window_s` window and a `support_s` support (raised to `window_s` if
+    /// shorter) for a pose stream of at most `rate_hz`; fails on a parameter that is not finite
+    /// and positive.
+    pub fn new(window_s: f64, support_s: f64, rate_hz: f64) -> Result<Self, SignalError> {
+        check_positive("window_s", window_s)?;
+        check_positive("support_s", support_s)?;
+        check_positive("rate_hz", rate_hz)?;
+        let support_s = support_s.max(window_s);
+        Ok(Self {
+            window_s,
+            support_s,
+            poses: Ring::new(ring_capacity(support_s, rate_hz)),
+            in_window_len: 0,
+            sum_window: 0.0,
+            sum_support: 0.0,
+            skips: SkipCounts::default(),
+        })
+    }
+
+    /// Feeds the heading `yaw` (radians) at `stamp`. Non-finite values and stamps that do not
+    /// increase are skipped and counted.
+    pub fn push(&mut self, stamp: f64, yaw: f64) {
+        if !(stamp.is_finite() && yaw.is_finite()) {
+            self.skips.non_finite += 1;
+            return;
+        }
+        if self.poses.back().is_some_and(|(t, _, _)| stamp <= t) {
+            self.skips.out_of_order += 1;
+            return;
+        }
+        let dy = self.poses.back().map_or(0.0, |(_, y, _)| {
+            strider_core::geom::wrap_angle(yaw - y).abs()
+        });
+        if self.poses.len() == self.poses.capacity() {
+            // A faster stream than the ring was sized for: the oldest pose leaves both spans.
+            self.skips.overrun += 1;
+            self.drop_front();
+        }
+        self.poses.push_back((stamp, yaw, dy));
+        self.in_window_len += 1;
+        self.sum_window += dy;
+        self.sum_support += dy;
+        while self.in_window_len > 0 {
+            let Some((t, _, dy)) = self.poses.get(self.poses.len() - self.in_window_len) else {
+                break;
+            };
+            if t >= stamp - self.window_s {
+                break;
+            }
+            self.sum_window -= dy;
+            self.in_window_len -= 1;
+        }
+        while self
+            .poses
+            .front()
+            .is_some_and(|(t, _, _)| t < stamp - self.support_s)
+        {
+            self.drop_front();
+        }
+    }
+
+    fn drop_front(&mut self) {
+        if let Some((_, _, dy)) = self.poses.pop_front() {
+            self.sum_support -= dy;
+            if self.in_window_len > self.poses.len() {
+                self.sum_window -= dy;
+                self.in_window_len = self.poses.len();
+            }
+        }
+    }
+
+    /// |Δyaw| summed over the poses of the window span (each pose's change from the pose before
+    /// it), radians.
+    pub fn in_window(&self) -> f64 {
+        self.sum_window.max(0.0)
+    }
+
+    /// |Δyaw| summed over the poses of the support span, radians.
+    pub fn in_support(&self) -> f64 {
+        self.sum_support.max(0.0)
+    }
+
+    /// Counts of skipped poses.
+    pub fn skips(&self) -> SkipCounts {
+        self.skips
+    }
+
+    /// Forgets the stream (keeps the buffer and the skip counts).
+    pub fn reset(&mut self) {
+        self.poses.clear();
+        self.in_window_len = 0;
+        self.sum_window = 0.0;
+        self.sum_support = 0.0;
     }
 }
 
