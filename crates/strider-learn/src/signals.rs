@@ -11,7 +11,7 @@
 //!   the gait did not change within the window, attributed to the window's middle pose, smoothed by
 //!   a moving average over the last Δt of raw values, and transformed by
 //!   c = c_high · tanh((v⁻¹ / v_max⁻¹) / c_high) ([`tanh_bound`]). It also reports stuck
-//!   (decision 9: v⁻¹ / v_max⁻¹ > c_max over the window).
+//!   (decision 9: v⁻¹ / v_max⁻¹ > c_max over a window walked in one gait).
 //! * [`HeadingChange`] — |Δyaw| summed over the cost window and over a smoothed sample's support,
 //!   so that turns on the spot neither teach a cost nor trigger the stuck reflex.
 //! * [`FallbackTimer`] — the stuck reflex's timer (decision 9: the rough-terrain gait for
@@ -547,11 +547,13 @@ impl InverseVelocityCost {
             RATIO_CAP
         };
         self.last_ratio = Some(ratio);
-        self.stuck = ratio > self.params.c_max;
         let gait_ok = self.track.constant_gait(first.stamp, t) == Some(gait);
         if !gait_ok {
             return None;
         }
+        // Judged on a window walked in one gait only, the window a cost sample is taken from:
+        // the tick that finds the robot stuck also teaches this gait's model the stuck cost.
+        self.stuck = ratio > self.params.c_max;
         let mid = self.track.nearest(0.5 * (first.stamp + t))?;
         if push_scalar(
             &mut self.smoothing,
@@ -590,8 +592,9 @@ impl InverseVelocityCost {
     }
 
     /// True when, over the last full window, v⁻¹ / v_max⁻¹ > c_max (decision 9). Evaluated every
-    /// tick with a full window, whether or not the gait changed within it (v_max of the current
-    /// gait); false while the window is not full.
+    /// tick whose full window was walked in the current gait (the windows cost samples come
+    /// from, so the stuck window is also a sample); false while the window is not full or the
+    /// gait changed within it.
     pub fn is_stuck(&self) -> bool {
         self.stuck
     }

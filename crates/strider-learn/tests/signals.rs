@@ -131,6 +131,32 @@ fn stopping_saturates_and_flags_stuck() {
 }
 
 #[test]
+fn stuck_is_judged_on_a_window_of_one_gait_and_comes_with_its_sample() {
+    // Gait 1 walks at v_max for 10 s, then gait 0 stands still (stuck). The window straddling
+    // the switch is not judged; the first window walked wholly in gait 0 is stuck, and the same
+    // tick emits gait 0's sample at the saturated cost.
+    let mut c = iv(5.0, vec![0.1, 0.1]);
+    let mut first_stuck = None;
+    for k in 0..400u32 {
+        let t = k as f64 / HZ;
+        let gait = if t < 10.0 { 1 } else { 0 };
+        let s = c.push(&pose(k, 0.1 * t.min(10.0), gait), GaitId(gait));
+        if t < 15.0 {
+            assert!(!c.is_stuck(), "stuck on a mixed window at t={t}");
+            assert!(s.is_none_or(|s| s.gait == GaitId(1)), "gait 0 sample at t={t}");
+        }
+        if c.is_stuck() && first_stuck.is_none() {
+            first_stuck = Some(k);
+            let s = s.expect("the stuck window is a sample");
+            assert_eq!(s.gait, GaitId(0));
+            assert_eq!(s.cost, 20.0);
+        }
+    }
+    // The first window with one gait only starts at the first gait-0 pose (k = 200).
+    assert_eq!(first_stuck, Some(300));
+}
+
+#[test]
 fn non_finite_and_out_of_order_poses_are_skipped_and_counted() {
     let mut c = iv(1.0, vec![0.1]);
     for k in 0..100u32 {
