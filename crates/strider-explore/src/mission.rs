@@ -19,6 +19,13 @@
 //! * at a reached spatial goal a robot whose sensors do not see all around turns once on the
 //!   spot, so a limited field of view sees the r_sensor disc Eq. 11 assumed; a reached spatial
 //!   goal is not pursued again within 2·r_robot;
+//! * the robot commits to the goal it pursues: a replan before it is reached (the goal set
+//!   changed) keeps it first and re-orders the other goals behind it, for the GTSP tour and the
+//!   greedy choice alike. Goal keys drift as the map and models change, so the pursued goal is
+//!   recognised as the goal with its key, else the spatial goal nearest its site within
+//!   c_radius, else a cost goal of its gait that still lists its site. Without this, every
+//!   goal-set change (spatial goals at 0.33 Hz) may flip an open tour's direction between
+//!   near-equal alternatives, and the robot walked back and forth between them;
 //! * goals none of whose sites is reachable on the current planning grid are not pursued; the
 //!   exploration ends (decision 25) when no reachable goal remains after the spatial and
 //!   learning modules have both run, or at the time limit.
@@ -644,6 +651,33 @@ impl Mission {
         goals
     }
 
+    /// The index in `goals` of the goal being pursued, if it is still a goal: the same key, or
+    /// (goal keys drift as the map and models change) a spatial goal within c_radius of the
+    /// pursued site, or a cost goal of the same gait that still lists the pursued site.
+    fn committed_goal(&self, goals: &[TourGoal]) -> Option<usize> {
+        let (key, site) = self.current?;
+        if let Some(i) = goals.iter().position(|g| g.key == key) {
+            return Some(i);
+        }
+        match key {
+            GoalKey::Spatial(_) => {
+                let r = self.map.params().c_radius / self.map.cell_size();
+                goals
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, g)| matches!(g.key, GoalKey::Spatial(_)))
+                    .map(|(i, g)| (i, g.sites[0].dist_cells(site)))
+                    .filter(|&(_, d)| d <= r)
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .map(|(i, _)| i)
+            }
+            GoalKey::Cost { gait, .. } => goals.iter().position(|g| {
+                matches!(g.key, GoalKey::Cost { gait: h, .. } if h == gait)
+                    && g.sites.contains(&site)
+            }),
+        }
+    }
+
     /// Rebuilds the planning view unless the map (fused scans), the models (learning updates)
     /// and the cost mode are those it was built from.
     fn refresh_view(&mut self, mode: CostMode) {
@@ -730,6 +764,12 @@ impl Mission {
         let wv = Instant::now();
         self.refresh_view(mode);
         let view_ms = wv.elapsed().as_secs_f64() * 1e3;
+        // A replan re-orders the goals behind the one being pursued rather than abandoning it.
+        let commit = if reached {
+            None
+        } else {
+            self.committed_goal(&goals)
+        };
         let view = self.view.take();
         let tour = view.as_ref().and_then(|v| {
             plan_tour(
@@ -739,6 +779,7 @@ impl Mission {
                 self.params.strategy == Strategy::Greedy,
                 self.params.seed,
                 &self.last_tour,
+                commit,
             )
         });
         let mut path_found = false;

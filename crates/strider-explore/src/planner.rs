@@ -201,6 +201,10 @@ pub fn farthest_point_subsample(sites: &[Cell], k: usize) -> Vec<Cell> {
 /// the solver in that order (goals that are gone are dropped, new ones inserted at their
 /// cheapest places), so a replan refines the standing plan instead of starting over, and the
 /// robot does not switch between near-equal tours from one replan to the next.
+///
+/// `first`, an index into `goals`, is the goal the robot has committed to: when it is reachable
+/// the tour starts with it (the cheapest tour among those that do) and the greedy choice is
+/// its cheapest site; otherwise it is ignored.
 pub fn plan_tour(
     view: &PlanningView,
     robot: Cell,
@@ -208,6 +212,7 @@ pub fn plan_tour(
     greedy: bool,
     seed: u64,
     previous: &[(GoalKey, Cell)],
+    first: Option<usize>,
 ) -> Option<Tour> {
     // Vertex 0 = robot; then every (goal, site).
     let mut sites = vec![robot];
@@ -244,10 +249,15 @@ pub fn plan_tour(
     }
     let n = reachable.len();
     let cost_of = |a: usize, b: usize| costs.get(reachable[a], reachable[b]);
+    // The set that must come first, if that goal is still reachable.
+    let first_set = first.and_then(|g| set_goal.iter().position(|&x| x == g));
     if greedy {
         // Cheapest goal next: the cheapest site of any goal from the robot.
         let mut best: Option<(f64, usize, usize)> = None;
         for (s, vs) in sets.iter().enumerate() {
+            if first_set.is_some_and(|f| f != s) {
+                continue;
+            }
             for &v in vs {
                 let c = cost_of(0, v);
                 if best.is_none_or(|(bc, _, _)| c < bc) {
@@ -271,15 +281,27 @@ pub fn plan_tour(
         .filter(|c| c.is_finite())
         .fold(0.0, f64::max);
     let big = ((finite_max * 1000.0).ceil() as i64 + 1) * n as i64;
+    let mut in_first = vec![false; n];
+    if let Some(f) = first_set {
+        for &v in &sets[f] {
+            in_first[v] = true;
+        }
+    }
     let dist = CostMatrix::from_fn(n, |a, b| {
         if a == b || b == 0 {
             0 // the diagonal, and the open tour's free return to the robot
         } else {
             let c = cost_of(a, b);
-            if c.is_finite() {
-                (c * 1000.0).round() as i64
-            } else {
+            // Leaving the robot for any set but the committed one costs more than any tour.
+            let detour = if a == 0 && first_set.is_some() && !in_first[b] {
                 big
+            } else {
+                0
+            };
+            if c.is_finite() {
+                (c * 1000.0).round() as i64 + detour
+            } else {
+                big + detour
             }
         }
     });

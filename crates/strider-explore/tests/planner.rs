@@ -65,7 +65,7 @@ fn the_tour_visits_one_site_per_reachable_goal_and_skips_unreachable_ones() {
         },
     ];
     for greedy in [false, true] {
-        let tour = plan_tour(&view, Cell::new(5, 5), &goals, greedy, 1, &[]).unwrap();
+        let tour = plan_tour(&view, Cell::new(5, 5), &goals, greedy, 1, &[], None).unwrap();
         if greedy {
             assert_eq!(tour.order.len(), 1);
             continue;
@@ -89,10 +89,10 @@ fn a_warm_started_replan_keeps_the_standing_tour_and_drops_what_is_gone() {
             sites: vec![Cell::new(i, j)],
         })
         .collect();
-    let cold = plan_tour(&view, Cell::new(5, 5), &goals, false, 1, &[]).unwrap();
+    let cold = plan_tour(&view, Cell::new(5, 5), &goals, false, 1, &[], None).unwrap();
     assert_eq!(cold.order.len(), 4);
     // Re-solving from its own tour finds the same order and cost.
-    let warm = plan_tour(&view, Cell::new(5, 5), &goals, false, 1, &cold.order).unwrap();
+    let warm = plan_tour(&view, Cell::new(5, 5), &goals, false, 1, &cold.order, None).unwrap();
     assert_eq!(warm.order, cold.order);
     assert_eq!(warm.cost, cold.cost);
     // A previous tour naming goals that are gone, sites that moved and a goal not yet known:
@@ -101,13 +101,60 @@ fn a_warm_started_replan_keeps_the_standing_tour_and_drops_what_is_gone() {
     previous.extend(cold.order.iter().skip(1).copied());
     previous.push((goals[1].key, Cell::new(11, 25)));
     let fewer = &goals[1..];
-    let t = plan_tour(&view, Cell::new(5, 5), fewer, false, 1, &previous).unwrap();
+    let t = plan_tour(&view, Cell::new(5, 5), fewer, false, 1, &previous, None).unwrap();
     let mut keys: Vec<GoalKey> = t.order.iter().map(|o| o.0).collect();
     keys.sort();
     let mut want: Vec<GoalKey> = fewer.iter().map(|g| g.key).collect();
     want.sort();
     assert_eq!(keys, want);
     assert!(t.cost.is_finite() && t.vertices == 4);
+}
+
+#[test]
+fn a_committed_goal_comes_first_and_the_rest_is_ordered_behind_it() {
+    let m = map();
+    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0, None).unwrap();
+    let mut goals: Vec<TourGoal> = [(6, 8), (10, 25), (30, 25), (35, 5)]
+        .iter()
+        .map(|&(i, j)| TourGoal {
+            key: GoalKey::Spatial(Cell::new(i, j)),
+            sites: vec![Cell::new(i, j)],
+        })
+        .collect();
+    goals.push(TourGoal {
+        key: GoalKey::Spatial(Cell::new(20, 5)),
+        sites: vec![Cell::new(20, 5)], // on the wall: unreachable
+    });
+    let robot = Cell::new(5, 5);
+    let free = plan_tour(&view, robot, &goals, false, 1, &[], None).unwrap();
+    assert_eq!(
+        free.order[0].0, goals[0].key,
+        "the nearest goal starts the free tour"
+    );
+    for greedy in [false, true] {
+        // Committed to the far goal behind the wall.
+        let t = plan_tour(&view, robot, &goals, greedy, 1, &[], Some(3)).unwrap();
+        assert_eq!(
+            t.order[0],
+            (goals[3].key, Cell::new(35, 5)),
+            "greedy={greedy}"
+        );
+        if !greedy {
+            assert_eq!(t.order.len(), 4);
+            assert!(t.cost > free.cost);
+            // Behind the committed goal the tour is the cheapest one: it continues to the
+            // nearer of the two remaining top goals rather than back to the start.
+            assert_eq!(t.order[1].0, goals[2].key);
+        }
+        // A committed goal that is unreachable, or out of range, commits to nothing.
+        for first in [Some(4), Some(99)] {
+            let u = plan_tour(&view, robot, &goals, greedy, 1, &[], first).unwrap();
+            assert_eq!(
+                u.order[0].0, goals[0].key,
+                "greedy={greedy} first={first:?}"
+            );
+        }
+    }
 }
 
 proptest! {

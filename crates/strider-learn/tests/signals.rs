@@ -143,7 +143,10 @@ fn stuck_is_judged_on_a_window_of_one_gait_and_comes_with_its_sample() {
         let s = c.push(&pose(k, 0.1 * t.min(10.0), gait), GaitId(gait));
         if t < 15.0 {
             assert!(!c.is_stuck(), "stuck on a mixed window at t={t}");
-            assert!(s.is_none_or(|s| s.gait == GaitId(1)), "gait 0 sample at t={t}");
+            assert!(
+                s.is_none_or(|s| s.gait == GaitId(1)),
+                "gait 0 sample at t={t}"
+            );
         }
         if c.is_stuck() && first_stuck.is_none() {
             first_stuck = Some(k);
