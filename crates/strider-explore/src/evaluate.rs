@@ -18,7 +18,7 @@ use strider_core::grid::CellRay;
 use strider_core::interface::{Robot, SensorSink};
 use strider_core::{Cell, Point2, PoseStamped};
 use strider_learn::cost_model::GaitCostModel;
-use strider_learn::signals::{FallbackTimer, HeadingChange, InverseVelocityCost};
+use strider_learn::signals::{FallbackTimer, InverseVelocityCost, TurningTime};
 use strider_map::ElevationMap;
 use strider_plan::grid::Dijkstra;
 
@@ -90,7 +90,7 @@ pub struct TourResult {
 struct TourSink {
     pose: Option<PoseStamped>,
     signal: InverseVelocityCost,
-    turns: HeadingChange,
+    turns: TurningTime,
     moving: bool,
     trajectory: Vec<TrajectorySample>,
     poses: u64,
@@ -140,8 +140,13 @@ pub fn run_tour<R: Robot>(
     mode: NavigationMode,
 ) -> Result<TourResult, MissionError> {
     let iv = params.inverse_velocity();
-    let turns = HeadingChange::new(iv.window_s, iv.window_s, iv.rate_hz)
-        .map_err(|e| MissionError::Params(e.to_string()))?;
+    let turns = TurningTime::new(
+        iv.window_s,
+        iv.window_s,
+        iv.rate_hz,
+        crate::mission::TURNING_RATE,
+    )
+    .map_err(|e| MissionError::Params(e.to_string()))?;
     let signal = InverseVelocityCost::new(iv).map_err(|e| MissionError::Params(e.to_string()))?;
     let mut fallback =
         FallbackTimer::new(params.dt_fallback).map_err(|e| MissionError::Params(e.to_string()))?;
@@ -236,8 +241,7 @@ pub fn run_tour<R: Robot>(
                 }
             }
             // The mission's reflex: a window spent turning on the spot is not stuck.
-            let stuck = sink.signal.is_stuck()
-                && sink.turns.in_window() <= crate::mission::MAX_TURN_IN_WINDOW;
+            let stuck = sink.signal.is_stuck() && sink.turns.in_window() == 0.0;
             fallback.update(t, stuck);
             let g = if fallback.is_active(t) {
                 fallback_ticks += 1;

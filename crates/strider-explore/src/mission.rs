@@ -11,11 +11,11 @@
 //! * a goal counts as reached when the robot is within 1.5 cells of its site or has finished
 //!   the path to it;
 //! * cost samples are taken only while the robot follows a path (a standing robot measures no
-//!   terrain) and not when it turned by more than 45° within the sample's support, the window
-//!   and the moving average before it (turning in place at path corners is the path's time, not
-//!   the terrain's, and one such window's ratio would enter Δt of smoothed samples); the stuck
-//!   reflex fires only while the robot is commanded to move and not over a window in which it
-//!   turned by more than 45° (a turn on the spot makes no headway but is not stuck);
+//!   terrain) and not when it turned (heading rate above 0.1 rad/s) within the sample's
+//!   support, the window and the moving average before it (turning in place at path corners is
+//!   the path's time, not the terrain's, and one such window's ratio would enter Δt of smoothed
+//!   samples); the stuck reflex fires only while the robot is commanded to move and not over a
+//!   window in which it turned (a turn on the spot makes no headway but is not stuck);
 //! * at a reached spatial goal a robot whose sensors do not see all around turns once on the
 //!   spot, so a limited field of view sees the r_sensor disc Eq. 11 assumed; a reached spatial
 //!   goal is not pursued again within 2·r_robot;
@@ -40,17 +40,18 @@ use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{Cell, GaitId, Point2, PointCloud, PoseStamped};
 use strider_learn::cost_model::{CostGoal, GaitCostModel, ModelUpdate};
 use strider_learn::descriptor_field::DescriptorField;
-use strider_learn::signals::{FallbackTimer, HeadingChange, InverseVelocityCost};
+use strider_learn::signals::{FallbackTimer, InverseVelocityCost, TurningTime};
 use strider_map::descriptors::{TA_BINS, color_histograms};
 use strider_map::information_gain::GainCache;
 use strider_map::reachability::Reachability;
 use strider_map::{ElevationMap, SpatialGoal, cluster_information};
 use strider_plan::grid::Dijkstra;
 
-/// Cost samples whose support saw the heading change by more than this (summed |Δyaw|, rad)
-/// measure the path's turns rather than the terrain and are not stored; stuck windows that
-/// turned by more do not trigger the reflex.
-pub(crate) const MAX_TURN_IN_WINDOW: f64 = std::f64::consts::FRAC_PI_4;
+/// Heading rate, rad/s, above which a pose tick counts as turning ([`TurningTime`]): cost
+/// samples whose support saw turning measure the path's turns rather than the terrain and are
+/// not stored, and windows that saw turning do not trigger the stuck reflex. Well below the
+/// profiles' turn rates (0.3–0.5 rad/s), well above the heading drift of straight walking.
+pub(crate) const TURNING_RATE: f64 = 0.1;
 
 /// Elevation hysteresis of the incremental Eq. 11 ([`GainCache`]), metres: the order of the
 /// depth noise, so that the Kalman refinement of ground already seen does not re-evaluate the
@@ -150,7 +151,7 @@ pub struct MissionLog {
     pub cost_samples: Vec<usize>,
     /// Stuck-reflex activations.
     pub stuck_events: usize,
-    /// Cost samples dropped because the robot turned more than 45° within their window.
+    /// Cost samples dropped because the robot turned within their support ([`TurningTime`]).
     pub turn_skipped: usize,
     /// Wall time per part of the loop, s.
     pub phase_wall_s: PhaseWall,
@@ -240,7 +241,7 @@ pub struct Mission {
     path: crate::keyframes::PathRecorder,
     unreachable_since: Option<f64>,
     /// Heading change over the stuck test's window and over a cost sample's support.
-    turns: HeadingChange,
+    turns: TurningTime,
     /// Pose (x, y, yaw) of the last fused scan per sensor.
     keyframes: crate::keyframes::Keyframes,
     /// The latest planning view (per-gait grids for Alg. 4, the merged grid for paths).
@@ -281,8 +282,13 @@ impl Mission {
         }
         let turns = {
             let iv = params.inverse_velocity();
-            HeadingChange::new(iv.window_s, iv.window_s + iv.smoothing_s, iv.rate_hz)
-                .map_err(|e| MissionError::Params(e.to_string()))?
+            TurningTime::new(
+                iv.window_s,
+                iv.window_s + iv.smoothing_s,
+                iv.rate_hz,
+                TURNING_RATE,
+            )
+            .map_err(|e| MissionError::Params(e.to_string()))?
         };
         let signal = InverseVelocityCost::new(params.inverse_velocity())
             .map_err(|e| MissionError::Params(e.to_string()))?;
@@ -494,9 +500,7 @@ impl Mission {
             }
             // Stuck reflex (decision 9), only while commanded to move and not over a window
             // spent turning on the spot: that slowness is the commanded turn's, not the terrain's.
-            let stuck = !state.idle
-                && self.signal.is_stuck()
-                && self.turns.in_window() <= MAX_TURN_IN_WINDOW;
+            let stuck = !state.idle && self.signal.is_stuck() && self.turns.in_window() == 0.0;
             let was = self.fallback.is_active(t);
             if self.fallback.update(t, stuck) && !was {
                 self.log.stuck_events += 1;
@@ -771,6 +775,18 @@ impl Mission {
             self.committed_goal(&goals)
         };
         let view = self.view.take();
+        // Plans start where the planning grid lets the centre be: the map may call the robot's
+        // cell admissible while the view does not (the exploration bounds, unknown cells), e.g.
+        // after a sampling manoeuvre walked to the edge of the bounds; from there every site
+        // would look unreachable.
+        let here = view
+            .as_ref()
+            .and_then(|v| {
+                nearest_where(here, &self.anchor_offsets, |c| {
+                    v.grid.cost(c).is_some_and(f32::is_finite)
+                })
+            })
+            .unwrap_or(here);
         let tour = view.as_ref().and_then(|v| {
             plan_tour(
                 v,
@@ -845,7 +861,7 @@ impl Mission {
     }
 
     /// Decision 24: enforce `gait` and walk straight ahead (or the most open direction when
-    /// the heading is blocked) over admissible cells for Δt_sample.
+    /// the heading is blocked) for Δt_sample over cells where the centre may be.
     fn start_sampling<R: Robot>(&mut self, robot: &mut R, t: f64, gait: GaitId) {
         let Some(p) = self.pose else { return };
         let d = self.map.cell_size();
@@ -863,7 +879,7 @@ impl Mission {
                     start.x + dx * s as f64 * 0.5 * d,
                     start.y + dy * s as f64 * 0.5 * d,
                 );
-                if !self.map.is_admissible_at(q.x, q.y) {
+                if !self.centre_may_be(q) {
                     break;
                 }
                 pts.push(q);
@@ -883,6 +899,16 @@ impl Mission {
             gait,
             until: t + self.params.dt_sample,
         });
+    }
+
+    /// True where the robot's centre may be: a finite cell of the latest planning grid (known,
+    /// admissible, the footprint inside the exploration bounds), or before the first view an
+    /// admissible map cell.
+    fn centre_may_be(&self, q: Point2) -> bool {
+        match (&self.view, self.map.cell_at(q.x, q.y)) {
+            (Some(v), Some(c)) => v.grid.cost(c).is_some_and(f32::is_finite),
+            _ => self.map.is_admissible_at(q.x, q.y),
+        }
     }
 
     /// Alg. 4: the enforced gait, the stuck reflex's rough gait, or the best gait at the robot.
@@ -951,7 +977,7 @@ impl SensorSink for Mission {
             return;
         }
         let sample = self.signal.push(pose, pose.gait);
-        if sample.is_some() && self.turns.in_support() > MAX_TURN_IN_WINDOW {
+        if sample.is_some() && self.turns.in_support() > 0.0 {
             // The robot spent part of the window turning: that time is the path's, not the
             // terrain's.
             self.log.turn_skipped += 1;

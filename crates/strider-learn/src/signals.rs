@@ -12,8 +12,9 @@
 //!   a moving average over the last Δt of raw values, and transformed by
 //!   c = c_high · tanh((v⁻¹ / v_max⁻¹) / c_high) ([`tanh_bound`]). It also reports stuck
 //!   (decision 9: v⁻¹ / v_max⁻¹ > c_max over a window walked in one gait).
-//! * [`HeadingChange`] — |Δyaw| summed over the cost window and over a smoothed sample's support,
-//!   so that turns on the spot neither teach a cost nor trigger the stuck reflex.
+//! * [`TurningTime`] — seconds spent turning within the cost window and within a smoothed
+//!   sample's support, so that turns on the spot neither teach a cost nor trigger the stuck
+//!   reflex.
 //! * [`FallbackTimer`] — the stuck reflex's timer (decision 9: the rough-terrain gait for
 //!   Δt_fallback).
 //! * [`RollVarianceCost`] — the variance of the body roll over a sliding window (`000` §IV: 10 s,
@@ -628,20 +629,24 @@ impl InverseVelocityCost {
 // ---------------------------------------------------------------------------------------------
 // Heading change.
 
-/// The heading change |Δyaw| summed over two trailing spans of the pose stream: the cost window
-/// Δt, over which [`InverseVelocityCost::is_stuck`] measures v⁻¹, and a smoothed cost sample's
-/// whole *support* (the window plus the moving average before it, decision 8), every raw ratio
-/// of which enters the sample.
+/// Time spent turning, summed over two trailing spans of the pose stream: the cost window Δt,
+/// over which [`InverseVelocityCost::is_stuck`] measures v⁻¹, and a smoothed cost sample's whole
+/// *support* (the window plus the moving average before it, decision 8), every raw ratio of
+/// which enters the sample. A pose tick counts as turning when the heading changed faster than
+/// `omega_turn` since the previous pose; the tick's duration is then added.
 ///
 /// A robot that turns on the spot at a path corner makes no headway for the length of the turn:
 /// a window spanning the turn measures the path's corner, not the terrain, and reads as stuck.
-/// The mission drops such samples and does not let such windows trigger the reflex; a single
-/// turning window's ratio is in Δt worth of smoothed samples, hence the support span.
+/// The mission drops samples whose support saw any turning and does not let windows that did
+/// trigger the reflex. (A fixed heading-change budget instead would depend on the robot's turn
+/// rate and the window: at 0.5 rad/s a 45° budget is spent in 1.6 s, less than the large
+/// simulation's 2 s support, and whole windows of turning on the spot got through.)
 #[derive(Clone, Debug)]
-pub struct HeadingChange {
+pub struct TurningTime {
     window_s: f64,
     support_s: f64,
-    /// (stamp, yaw, |Δyaw| from the previous pose) over the support span.
+    omega_turn: f64,
+    /// (stamp, yaw, seconds of turning since the previous pose) over the support span.
     poses: Ring<(f64, f64, f64)>,
     /// How many of the newest `poses` lie in the window span.
     in_window_len: usize,
@@ -650,18 +655,25 @@ pub struct HeadingChange {
     skips: SkipCounts,
 }
 
-impl HeadingChange {
+impl TurningTime {
     /// A tracker over a `window_s` window and a `support_s` support (raised to `window_s` if
-    /// shorter) for a pose stream of at most `rate_hz`; fails on a parameter that is not finite
-    /// and positive.
-    pub fn new(window_s: f64, support_s: f64, rate_hz: f64) -> Result<Self, SignalError> {
+    /// shorter) for a pose stream of at most `rate_hz`, counting ticks whose heading rate
+    /// exceeds `omega_turn` rad/s; fails on a parameter that is not finite and positive.
+    pub fn new(
+        window_s: f64,
+        support_s: f64,
+        rate_hz: f64,
+        omega_turn: f64,
+    ) -> Result<Self, SignalError> {
         check_positive("window_s", window_s)?;
         check_positive("support_s", support_s)?;
         check_positive("rate_hz", rate_hz)?;
+        check_positive("omega_turn", omega_turn)?;
         let support_s = support_s.max(window_s);
         Ok(Self {
             window_s,
             support_s,
+            omega_turn,
             poses: Ring::new(ring_capacity(support_s, rate_hz)),
             in_window_len: 0,
             sum_window: 0.0,
@@ -681,26 +693,28 @@ impl HeadingChange {
             self.skips.out_of_order += 1;
             return;
         }
-        let dy = self.poses.back().map_or(0.0, |(_, y, _)| {
-            strider_core::geom::wrap_angle(yaw - y).abs()
+        let turn = self.poses.back().map_or(0.0, |(t, y, _)| {
+            let dt = stamp - t;
+            let rate = strider_core::geom::wrap_angle(yaw - y).abs() / dt;
+            if rate > self.omega_turn { dt } else { 0.0 }
         });
         if self.poses.len() == self.poses.capacity() {
             // A faster stream than the ring was sized for: the oldest pose leaves both spans.
             self.skips.overrun += 1;
             self.drop_front();
         }
-        self.poses.push_back((stamp, yaw, dy));
+        self.poses.push_back((stamp, yaw, turn));
         self.in_window_len += 1;
-        self.sum_window += dy;
-        self.sum_support += dy;
+        self.sum_window += turn;
+        self.sum_support += turn;
         while self.in_window_len > 0 {
-            let Some((t, _, dy)) = self.poses.get(self.poses.len() - self.in_window_len) else {
+            let Some((t, _, turn)) = self.poses.get(self.poses.len() - self.in_window_len) else {
                 break;
             };
             if t >= stamp - self.window_s {
                 break;
             }
-            self.sum_window -= dy;
+            self.sum_window -= turn;
             self.in_window_len -= 1;
         }
         while self
@@ -710,27 +724,34 @@ impl HeadingChange {
         {
             self.drop_front();
         }
+        // Running sums of durations: exact zeros when nothing in a span turned.
+        if self.in_window_len == 0 || self.sum_window < 1e-9 {
+            self.sum_window = 0.0;
+        }
+        if self.sum_support < 1e-9 {
+            self.sum_support = 0.0;
+        }
     }
 
     fn drop_front(&mut self) {
-        if let Some((_, _, dy)) = self.poses.pop_front() {
-            self.sum_support -= dy;
+        if let Some((_, _, turn)) = self.poses.pop_front() {
+            self.sum_support -= turn;
             if self.in_window_len > self.poses.len() {
-                self.sum_window -= dy;
+                self.sum_window -= turn;
                 self.in_window_len = self.poses.len();
             }
         }
     }
 
-    /// |Δyaw| summed over the poses of the window span (each pose's change from the pose before
-    /// it), radians.
+    /// Seconds of turning among the poses of the window span (each pose's tick since the
+    /// previous pose).
     pub fn in_window(&self) -> f64 {
-        self.sum_window.max(0.0)
+        self.sum_window
     }
 
-    /// |Δyaw| summed over the poses of the support span, radians.
+    /// Seconds of turning among the poses of the support span.
     pub fn in_support(&self) -> f64 {
-        self.sum_support.max(0.0)
+        self.sum_support
     }
 
     /// Counts of skipped poses.

@@ -4,9 +4,9 @@ use approx::assert_relative_eq;
 use strider_core::geom::Point3;
 use strider_core::msg::{GaitId, PoseStamped, Proprioception};
 use strider_learn::signals::{
-    EnergyCost, EnergyParams, FallbackTimer, HeadingChange, InverseVelocityCost,
-    InverseVelocityParams, RATIO_CAP, RollVarianceCost, RollVarianceParams, SignalError,
-    hotel_load_per_metre, tanh_bound,
+    EnergyCost, EnergyParams, FallbackTimer, InverseVelocityCost, InverseVelocityParams, RATIO_CAP,
+    RollVarianceCost, RollVarianceParams, SignalError, TurningTime, hotel_load_per_metre,
+    tanh_bound,
 };
 
 const HZ: f64 = 20.0;
@@ -437,27 +437,34 @@ fn tanh_bound_is_eq_20() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Heading change.
+// Turning time.
 
-/// Brute force: Σ over accepted poses with stamp ≥ now − span of |wrap(yaw_i − yaw_{i−1})|.
-fn brute_heading(accepted: &[(f64, f64)], span: f64) -> f64 {
+const OMEGA: f64 = 0.1;
+
+/// Brute force: Σ over accepted poses with stamp ≥ now − span of their tick's duration when the
+/// heading rate over the tick exceeds OMEGA.
+fn brute_turning(accepted: &[(f64, f64)], span: f64) -> f64 {
     let Some(&(now, _)) = accepted.last() else {
         return 0.0;
     };
     (1..accepted.len())
         .filter(|&i| accepted[i].0 >= now - span)
-        .map(|i| strider_core::geom::wrap_angle(accepted[i].1 - accepted[i - 1].1).abs())
+        .map(|i| {
+            let dt = accepted[i].0 - accepted[i - 1].0;
+            let rate = strider_core::geom::wrap_angle(accepted[i].1 - accepted[i - 1].1).abs() / dt;
+            if rate > OMEGA { dt } else { 0.0 }
+        })
         .sum()
 }
 
 proptest::proptest! {
     #[test]
-    fn heading_change_equals_brute_force(
-        steps in proptest::collection::vec((0.01f64..0.2, -0.5f64..0.5, 0u8..20), 1..400),
+    fn turning_time_equals_brute_force(
+        steps in proptest::collection::vec((0.01f64..0.2, -0.05f64..0.05, 0u8..20), 1..400),
         window in 0.3f64..3.0,
         extra in 0.0f64..3.0,
     ) {
-        let mut h = HeadingChange::new(window, window + extra, 20.0).unwrap();
+        let mut h = TurningTime::new(window, window + extra, 20.0, OMEGA).unwrap();
         let mut accepted: Vec<(f64, f64)> = Vec::new();
         let (mut t, mut yaw) = (0.0, 3.0);
         for &(dt, dyaw, bad) in &steps {
@@ -473,54 +480,60 @@ proptest::proptest! {
                     accepted.push((t, yaw));
                 }
             }
-            proptest::prop_assert!((h.in_window() - brute_heading(&accepted, window)).abs() < 1e-9);
+            proptest::prop_assert!((h.in_window() - brute_turning(&accepted, window)).abs() < 1e-9);
             proptest::prop_assert!(
-                (h.in_support() - brute_heading(&accepted, window + extra)).abs() < 1e-9
+                (h.in_support() - brute_turning(&accepted, window + extra)).abs() < 1e-9
             );
         }
     }
 }
 
 #[test]
-fn heading_change_turn_on_the_spot_then_straight() {
-    // 0.3 rad/s for 5 s (a 86° turn), then straight: the 5 s window forgets the turn 5 s after
+fn turning_time_of_a_turn_on_the_spot_then_straight() {
+    // 0.3 rad/s for 5 s (an 86° turn), then straight: the 5 s window forgets the turn 5 s after
     // it ended, the 10 s support 10 s after.
-    let mut h = HeadingChange::new(5.0, 10.0, 20.0).unwrap();
+    let mut h = TurningTime::new(5.0, 10.0, 20.0, OMEGA).unwrap();
     let mut yaw = 0.0;
     for k in 0..=100u32 {
         yaw = 0.3 * k as f64 / HZ;
         h.push(k as f64 / HZ, yaw);
     }
-    assert_relative_eq!(h.in_window(), 1.5, max_relative = 1e-9);
-    assert_relative_eq!(h.in_support(), 1.5, max_relative = 1e-9);
+    assert_relative_eq!(h.in_window(), 5.0, max_relative = 1e-9);
+    assert_relative_eq!(h.in_support(), 5.0, max_relative = 1e-9);
     for k in 101..=300u32 {
         h.push(k as f64 / HZ, yaw);
         let t = k as f64 / HZ;
-        if t > 10.0 {
-            assert!(h.in_window() < 1e-12, "t={t}");
+        if t > 10.0 + 1e-9 {
+            assert_eq!(h.in_window(), 0.0, "t={t}");
         }
-        if t > 15.0 {
-            assert!(h.in_support() < 1e-12, "t={t}");
+        if t > 15.0 + 1e-9 {
+            assert_eq!(h.in_support(), 0.0, "t={t}");
         } else if t < 14.9 {
-            // The turning poses still in the support: 0.3 rad/s over [max(t − 10, 0), 5].
-            assert_relative_eq!(h.in_support(), 0.3 * (15.0 - t.max(10.0)), epsilon = 0.02);
+            // The turning ticks still in the support: those over [max(t − 10, 0), 5].
+            assert_relative_eq!(h.in_support(), 15.0 - t.max(10.0), epsilon = 0.06);
         }
     }
-    // Wrapping across ±π counts the short way round.
-    let mut h = HeadingChange::new(5.0, 5.0, 20.0).unwrap();
+    // Wrapping across ±π counts the short way round: 0.1 rad in 0.05 s is turning, a slow
+    // drift of 0.004 rad per tick (0.08 rad/s) is not.
+    let mut h = TurningTime::new(5.0, 5.0, 20.0, OMEGA).unwrap();
     h.push(0.0, std::f64::consts::PI - 0.05);
     h.push(0.05, -std::f64::consts::PI + 0.05);
-    assert_relative_eq!(h.in_window(), 0.1, max_relative = 1e-9);
+    assert_relative_eq!(h.in_window(), 0.05, max_relative = 1e-9);
     h.reset();
+    assert_eq!(h.in_window(), 0.0);
+    for k in 0..100u32 {
+        h.push(k as f64 / HZ, 0.004 * k as f64);
+    }
     assert_eq!(h.in_window(), 0.0);
 }
 
 #[test]
-fn heading_change_rejects_bad_parameters_and_counts_skips() {
-    assert!(HeadingChange::new(0.0, 1.0, 20.0).is_err());
-    assert!(HeadingChange::new(1.0, f64::NAN, 20.0).is_err());
-    assert!(HeadingChange::new(1.0, 1.0, -1.0).is_err());
-    let mut h = HeadingChange::new(1.0, 2.0, 20.0).unwrap();
+fn turning_time_rejects_bad_parameters_and_counts_skips() {
+    assert!(TurningTime::new(0.0, 1.0, 20.0, OMEGA).is_err());
+    assert!(TurningTime::new(1.0, f64::NAN, 20.0, OMEGA).is_err());
+    assert!(TurningTime::new(1.0, 1.0, -1.0, OMEGA).is_err());
+    assert!(TurningTime::new(1.0, 1.0, 20.0, 0.0).is_err());
+    let mut h = TurningTime::new(1.0, 2.0, 20.0, OMEGA).unwrap();
     h.push(1.0, 0.0);
     h.push(1.0, 1.0);
     h.push(0.5, 1.0);
@@ -529,10 +542,10 @@ fn heading_change_rejects_bad_parameters_and_counts_skips() {
     assert_eq!(h.skips().non_finite, 1);
     assert_eq!(h.in_window(), 0.0);
     // A stream faster than the ring was sized for drops the oldest poses from both sums.
-    let mut h = HeadingChange::new(1.0, 1.0, 1.0).unwrap();
+    let mut h = TurningTime::new(1.0, 1.0, 1.0, OMEGA).unwrap();
     for k in 0..100 {
         h.push(k as f64 * 0.001, k as f64 * 0.01);
     }
     assert!(h.skips().overrun > 0);
-    assert!(h.in_window() > 0.0 && h.in_window() < 0.99);
+    assert!(h.in_window() > 0.0 && h.in_window() < 0.099);
 }
