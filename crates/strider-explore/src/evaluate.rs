@@ -209,7 +209,7 @@ pub fn run_tour<R: Robot>(
             let src = nearest_where(map.cell_at(from.x, from.y)?, &near, centre_ok)?;
             let dst = nearest_where(map.cell_at(b.x, b.y)?, &near, centre_ok)?;
             let cells = view.path(&mut Dijkstra::new(), src, dst)?;
-            let mut pts = view.drive_waypoints(&cells);
+            let mut pts = view.drive_waypoints_from(&cells, from);
             pts.push(b);
             Some(pts)
         };

@@ -803,7 +803,11 @@ impl Mission {
         if let (Some(v), Some(tour)) = (&view, &tour) {
             for &(key, site) in &tour.order {
                 if let Some(path) = v.path(&mut self.dij, here, site) {
-                    robot.follow(&v.drive_waypoints(&path));
+                    let pts = match self.pose {
+                        Some(p) => v.drive_waypoints_from(&path, p.position.xy()),
+                        None => v.drive_waypoints(&path),
+                    };
+                    robot.follow(&pts);
                     self.current = Some((key, site));
                     path_found = true;
                     break;

@@ -118,6 +118,19 @@ impl PlanningView {
         waypoints(&smooth_path(&self.grid, path), self.grid.cell_size())
     }
 
+    /// [`drive_waypoints`](Self::drive_waypoints) for a robot standing at `robot`: when the
+    /// path starts in the robot's own cell, that cell's centre is left out, since the robot is
+    /// already there. (Driving to it first would turn a robot that stands past the centre on
+    /// the spot, up to half a turn and back, at every replan.)
+    pub fn drive_waypoints_from(&self, path: &[Cell], robot: Point2) -> Vec<Point2> {
+        let mut pts = self.drive_waypoints(path);
+        let d = self.grid.cell_size();
+        if pts.len() > 1 && path.first() == Cell::containing(robot.x, robot.y, d).as_ref() {
+            pts.remove(0);
+        }
+        pts
+    }
+
     /// The cheapest path from `from` to `to` on the planning grid, as cell centres; `None` if
     /// unreachable.
     pub fn path(&self, dij: &mut Dijkstra, from: Cell, to: Cell) -> Option<Vec<Cell>> {

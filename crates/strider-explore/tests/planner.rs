@@ -1,7 +1,7 @@
 //! The exploration tour and paths on a small synthetic map.
 
 use proptest::prelude::*;
-use strider_core::{Cell, CellRect, GaitId, Rgb8};
+use strider_core::{Cell, CellRect, GaitId, Point2, Rgb8};
 use strider_explore::planner::{
     CostMode, GoalKey, PlanningView, TourGoal, farthest_point_subsample, plan_tour,
 };
@@ -43,6 +43,24 @@ fn paths_avoid_inadmissible_cells_and_go_around_the_wall() {
         assert!(m.is_admissible(*c), "{c:?} inadmissible");
     }
     assert!(path.iter().any(|c| c.j >= 22), "detours through the gap");
+}
+
+#[test]
+fn a_robot_in_the_first_cell_of_its_path_does_not_walk_to_that_cell_centre_first() {
+    let m = map();
+    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0, None).unwrap();
+    let path = view
+        .path(&mut Dijkstra::new(), Cell::new(5, 5), Cell::new(15, 5))
+        .unwrap();
+    let all = view.drive_waypoints(&path);
+    let centre = Point2::new(0.275, 0.275);
+    assert!(all[0].dist(centre) < 1e-9 && all.len() >= 2);
+    // Standing past the centre of cell (5, 5), behind it as seen from the goal.
+    let inside = view.drive_waypoints_from(&path, Point2::new(0.26, 0.29));
+    assert_eq!(inside, all[1..].to_vec());
+    // Standing in another cell (e.g. an inadmissible one next to the path's start): keep it.
+    let outside = view.drive_waypoints_from(&path, Point2::new(0.22, 0.29));
+    assert_eq!(outside, all);
 }
 
 #[test]
