@@ -26,6 +26,10 @@
 //!   c_radius, else a cost goal of its gait that still lists its site. Without this, every
 //!   goal-set change (spatial goals at 0.33 Hz) may flip an open tour's direction between
 //!   near-equal alternatives, and the robot walked back and forth between them;
+//! * plans start from the nearest cell where the planning grid lets the centre be (known,
+//!   admissible, the footprint inside the exploration bounds), the sampling manoeuvre walks only
+//!   over such cells, and a path that starts in the robot's own cell does not send it to that
+//!   cell's centre first;
 //! * goals none of whose sites is reachable on the current planning grid are not pursued; the
 //!   exploration ends (decision 25) when no reachable goal remains after the spatial and
 //!   learning modules have both run, or at the time limit.
