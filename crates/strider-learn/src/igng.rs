@@ -17,7 +17,7 @@
 //!    every neighbour of ω₁ by one (lines 19–20);
 //!
 //! then remove edges older than a_max (lines 21–22) and mature neurons left without an edge
-//! (lines 23–25). As Alg. 11 is indented, the pruning belongs to the adaptation branch; the
+//! (lines 23–25; [`InsertionRule::Alg11`] only, see below). As Alg. 11 is indented, the pruning belongs to the adaptation branch; the
 //! insertion branches change no age, so for a_mature ≥ 2 pruning after every step (as the text
 //! puts it) would change nothing.
 //!
@@ -34,6 +34,12 @@
 //!   live class. Step 2 becomes an adaptation without the ω₂ edge (lines 11–14 and 19–20; lines
 //!   15–18 need an ω₂ within σ). Warps that would bring a neuron within σ of another live neuron
 //!   are not applied. Invariant: live prototypes are pairwise ≥ σ apart.
+//!   Mature neurons without an edge are **kept** (Alg. 11 lines 23–25 do not apply): with
+//!   classes ≥ σ apart, an edge needs a descriptor within σ of two of them, so a well-separated
+//!   terrain's neuron is isolated by design. Removing it once mature made every class die and be
+//!   re-created under a new id every few updates (one courtyard-small mission went through
+//!   class ids 10 to 1895), and an update could end with a terrain's class missing, its cells
+//!   assigned to the nearest other class (fast-gait brown turf planned as pavement).
 //! * [`InsertionRule::Alg11`]: Alg. 11 verbatim. Prototypes may be closer than σ; the graph's
 //!   connected components ([`Igng::components`]) are then the natural clusters.
 //!
@@ -565,12 +571,16 @@ impl Igng {
         // Lines 21–25.
         let age_max = self.params.age_max;
         self.edges.retain(|_, &mut age| age <= age_max);
-        let age_mature = self.params.age_mature;
-        let edges = &self.edges;
-        let before = self.neurons.len();
-        self.neurons
-            .retain(|n| n.age < age_mature || edges.keys().any(|&(a, b)| a == n.id || b == n.id));
-        self.removed += before - self.neurons.len();
+        if self.params.insertion == InsertionRule::Alg11 {
+            // Under `Separated` a class is isolated by design (see the module docs).
+            let age_mature = self.params.age_mature;
+            let edges = &self.edges;
+            let before = self.neurons.len();
+            self.neurons.retain(|n| {
+                n.age < age_mature || edges.keys().any(|&(a, b)| a == n.id || b == n.id)
+            });
+            self.removed += before - self.neurons.len();
+        }
         AdaptOutcome::Adapted(id1)
     }
 
@@ -645,6 +655,26 @@ mod tests {
         assert_eq!(g.len(), 1);
         let w = g.prototype(ClassId(0)).unwrap()[0];
         assert!((w - 0.5e-3).abs() < 1e-15);
+    }
+
+    #[test]
+    fn separated_classes_survive_maturity_without_edges() {
+        // Two terrains 2σ apart: under `Separated` no descriptor is within σ of both, so
+        // neither neuron ever gets an edge; both stay the same classes however long they adapt.
+        let mut p = IgngParams::with_sigma(1.0);
+        p.age_mature = 1;
+        p.age_max = 1;
+        let mut g = Igng::new(1, p, 0).unwrap();
+        assert_eq!(g.adapt(&[0.0]).unwrap(), AdaptOutcome::Created(ClassId(0)));
+        assert_eq!(g.adapt(&[2.0]).unwrap(), AdaptOutcome::Created(ClassId(1)));
+        for k in 0..500 {
+            let x = if k % 2 == 0 { 0.1 } else { 1.9 };
+            let want = ClassId((k % 2) as u32);
+            assert_eq!(g.adapt(&[x]).unwrap(), AdaptOutcome::Adapted(want));
+        }
+        assert_eq!(g.len(), 2);
+        assert_eq!(g.classify(&[0.0]), Some(ClassId(0)));
+        assert_eq!(g.classify(&[2.0]), Some(ClassId(1)));
     }
 
     #[test]
