@@ -18,7 +18,9 @@
 //!   window in which it turned (a turn on the spot makes no headway but is not stuck);
 //! * at a reached spatial goal a robot whose sensors do not see all around turns once on the
 //!   spot, so a limited field of view sees the r_sensor disc Eq. 11 assumed; a reached spatial
-//!   goal is not pursued again within 2·r_robot;
+//!   goal is not pursued again within 2·r_robot; nor is a cost-goal site within 2·r_robot of
+//!   where the same gait already sampled (a robot stuck beside a site measures the cells it
+//!   stands on, the site stays a site, and the goal would draw the robot back for ever);
 //! * the robot commits to the goal it pursues: a replan before it is reached (the goal set
 //!   changed) keeps it first and re-orders the other goals behind it, for the GTSP tour and the
 //!   greedy choice alike. Goal keys drift as the map and models change, so the pursued goal is
@@ -269,6 +271,8 @@ pub struct Mission {
     /// could not be seen from there, e.g. the sensor's blind zone around the robot, will not be
     /// seen by returning).
     visited: Vec<Cell>,
+    /// (gait, cell) of every cost-goal site sampled and of where the robot stood then.
+    sampled: Vec<(u8, Cell)>,
     /// Eq. 11 kept between spatial updates.
     gain: GainCache,
     /// The last tour's (goal, site) order, the warm start of the next GTSP solve.
@@ -363,6 +367,7 @@ impl Mission {
             keyframes: crate::keyframes::Keyframes::default(),
             turns,
             visited: Vec::new(),
+            sampled: Vec::new(),
             gain: GainCache::new(GAIN_DZ),
             last_tour: Vec::new(),
             passive: false,
@@ -646,13 +651,30 @@ impl Mission {
             })
             .collect();
         if self.params.strategy != Strategy::SpatialOnly {
+            let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
             for (g, goal) in &self.cost_goals {
+                // Sites where this gait already sampled are not pursued again: a robot stuck
+                // beside a site measures the cells it stands on, not the site, which stays a
+                // site of the goal and would draw the robot back for ever.
+                let fresh: Vec<Cell> = goal
+                    .sites
+                    .iter()
+                    .copied()
+                    .filter(|s| {
+                        self.sampled
+                            .iter()
+                            .all(|&(h, c)| h != *g || c.dist_cells(*s) > r)
+                    })
+                    .collect();
+                if fresh.is_empty() {
+                    continue;
+                }
                 goals.push(TourGoal {
                     key: GoalKey::Cost {
                         gait: *g,
                         class: goal.class.map_or(u32::MAX, |c| c.0),
                     },
-                    sites: farthest_point_subsample(&goal.sites, self.params.max_sites_per_goal),
+                    sites: farthest_point_subsample(&fresh, self.params.max_sites_per_goal),
                 });
             }
         }
@@ -740,9 +762,11 @@ impl Mission {
             }
             self.current = None;
         }
-        if reached && let Some((GoalKey::Cost { gait, .. }, _)) = self.current {
+        if reached && let Some((GoalKey::Cost { gait, .. }, site)) = self.current {
             // Lines 12–15: sample the reached cost goal with its gait.
             self.log.samplings[gait as usize] += 1;
+            self.sampled.push((gait, site));
+            self.sampled.push((gait, here));
             self.start_sampling(robot, t, GaitId(gait));
             return None;
         }
