@@ -240,8 +240,7 @@ pub fn run_tour<R: Robot>(
                     robot.follow(q);
                 }
             }
-            // The mission's reflex: a window spent turning on the spot is not stuck.
-            let stuck = sink.signal.is_stuck() && sink.turns.in_window() == 0.0;
+            let stuck = crate::mission::reflex_stuck(&sink.signal, &sink.turns);
             fallback.update(t, stuck);
             let g = if fallback.is_active(t) {
                 fallback_ticks += 1;

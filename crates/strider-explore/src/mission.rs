@@ -64,6 +64,13 @@ pub(crate) const TURNING_RATE: f64 = 0.1;
 /// gain of every candidate within r_sensor of the sensor footprint at each spatial update.
 const GAIN_DZ: f64 = 0.01;
 
+/// The stuck reflex's test (decision 9), shared by missions and benchmark tours: the signal
+/// is stuck over its window and the window saw no turning, since a turn on the spot makes no
+/// headway but is the commanded turn's slowness, not the terrain's.
+pub(crate) fn reflex_stuck(signal: &InverseVelocityCost, turns: &TurningTime) -> bool {
+    signal.is_stuck() && turns.in_window() == 0.0
+}
+
 /// Why a mission stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Termination {
@@ -507,9 +514,8 @@ impl Mission {
             if state.idle {
                 self.signal.reset();
             }
-            // Stuck reflex (decision 9), only while commanded to move and not over a window
-            // spent turning on the spot: that slowness is the commanded turn's, not the terrain's.
-            let stuck = !state.idle && self.signal.is_stuck() && self.turns.in_window() == 0.0;
+            // Stuck reflex (decision 9), only while commanded to move.
+            let stuck = !state.idle && reflex_stuck(&self.signal, &self.turns);
             let was = self.fallback.is_active(t);
             if self.fallback.update(t, stuck) && !was {
                 self.log.stuck_events += 1;
