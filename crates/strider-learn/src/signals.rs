@@ -627,7 +627,7 @@ impl InverseVelocityCost {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Heading change.
+// Turning time.
 
 /// Time spent turning, summed over two trailing spans of the pose stream: the cost window Δt,
 /// over which [`InverseVelocityCost::is_stuck`] measures v⁻¹, and a smoothed cost sample's whole
