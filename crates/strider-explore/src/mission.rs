@@ -253,7 +253,7 @@ pub struct Mission {
     log: MissionLog,
     path: crate::keyframes::PathRecorder,
     unreachable_since: Option<f64>,
-    /// Heading change over the stuck test's window and over a cost sample's support.
+    /// Time spent turning over the stuck test's window and over a cost sample's support.
     turns: TurningTime,
     /// Pose (x, y, yaw) of the last fused scan per sensor.
     keyframes: crate::keyframes::Keyframes,
