@@ -209,9 +209,7 @@ pub fn run_tour<R: Robot>(
             let src = nearest_where(map.cell_at(from.x, from.y)?, &near, centre_ok)?;
             let dst = nearest_where(map.cell_at(b.x, b.y)?, &near, centre_ok)?;
             let cells = view.path(&mut Dijkstra::new(), src, dst)?;
-            let mut pts = view.drive_waypoints_from(&cells, from);
-            pts.push(b);
-            Some(pts)
+            Some(view.drive_waypoints_between(&cells, from, b))
         };
         let mut path = here_pt(&sink).and_then(plan);
         let mut reached = false;

@@ -8,7 +8,7 @@ use strider_learn::cost_model::GaitCostModel;
 use strider_map::ElevationMap;
 use strider_map::passability::Passability;
 use strider_map::rect::WorldRect;
-use strider_plan::grid::{CostGrid, Dijkstra, all_pairs, smooth_path, transform};
+use strider_plan::grid::{CostGrid, Dijkstra, all_pairs, smooth_between, smooth_path, transform};
 use strider_plan::gtsp::{self, Mode, SolverParams};
 use strider_plan::tsplib::{CostMatrix, Instance};
 
@@ -118,16 +118,25 @@ impl PlanningView {
         waypoints(&smooth_path(&self.grid, path), self.grid.cell_size())
     }
 
-    /// [`drive_waypoints`](Self::drive_waypoints) for a robot standing at `robot`: when the
-    /// path starts in the robot's own cell, that cell's centre is left out, since the robot is
-    /// already there. (Driving to it first would turn a robot that stands past the centre on
-    /// the spot, up to half a turn and back, at every replan.)
+    /// [`drive_waypoints`](Self::drive_waypoints) for a robot standing at `robot`, ending at
+    /// the centre of the path's last cell.
     pub fn drive_waypoints_from(&self, path: &[Cell], robot: Point2) -> Vec<Point2> {
-        let mut pts = self.drive_waypoints(path);
         let d = self.grid.cell_size();
-        if pts.len() > 1 && path.first() == Cell::containing(robot.x, robot.y, d).as_ref() {
-            pts.remove(0);
+        match path.last() {
+            Some(last) => self.drive_waypoints_between(path, robot, last.center(d)),
+            None => Vec::new(),
         }
+    }
+
+    /// The waypoints a robot standing at `from` drives along `path` (a path of this view) to
+    /// the point `to`: [`smooth_between`] on the planning grid, without the robot's own
+    /// position. Shortcuts start at the robot and end at `to` themselves: a robot standing past
+    /// the centre of its own cell does not turn back to it (which would turn it on the spot, up
+    /// to half a turn and back, at every replan), and a straight cheapest route is driven
+    /// straight, not through the cell centres beside it.
+    pub fn drive_waypoints_between(&self, path: &[Cell], from: Point2, to: Point2) -> Vec<Point2> {
+        let mut pts = smooth_between(&self.grid, from, path, to);
+        pts.remove(0);
         pts
     }
 

@@ -58,9 +58,37 @@ fn a_robot_in_the_first_cell_of_its_path_does_not_walk_to_that_cell_centre_first
     // Standing past the centre of cell (5, 5), behind it as seen from the goal.
     let inside = view.drive_waypoints_from(&path, Point2::new(0.26, 0.29));
     assert_eq!(inside, all[1..].to_vec());
-    // Standing in another cell (e.g. an inadmissible one next to the path's start): keep it.
-    let outside = view.drive_waypoints_from(&path, Point2::new(0.22, 0.29));
-    assert_eq!(outside, all);
+    // Standing in the admissible cell next to it: straight to the goal as well.
+    let beside = view.drive_waypoints_from(&path, Point2::new(0.22, 0.29));
+    assert_eq!(beside, all[1..].to_vec());
+}
+
+#[test]
+fn a_robot_off_the_admissible_grid_first_walks_back_onto_its_path() {
+    let m = map();
+    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0, None).unwrap();
+    // Cell (19, 5) touches the wall at i = 20 with the 0.1 m footprint.
+    assert!(!view.grid.cost(Cell::new(19, 5)).unwrap().is_finite());
+    let path = view
+        .path(&mut Dijkstra::new(), Cell::new(15, 5), Cell::new(5, 5))
+        .unwrap();
+    let pts = view.drive_waypoints_from(&path, Point2::new(0.97, 0.28));
+    assert_eq!(
+        pts,
+        vec![Point2::new(0.775, 0.275), Point2::new(0.275, 0.275)]
+    );
+}
+
+#[test]
+fn a_straight_cheapest_route_is_driven_along_the_exact_segment() {
+    let m = map();
+    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0, None).unwrap();
+    let (from, to) = (Point2::new(0.26, 0.29), Point2::new(0.79, 0.31));
+    let path = view
+        .path(&mut Dijkstra::new(), Cell::new(5, 5), Cell::new(15, 6))
+        .unwrap();
+    // Not through the centre of the goal's cell, (0.775, 0.325), first.
+    assert_eq!(view.drive_waypoints_between(&path, from, to), vec![to]);
 }
 
 #[test]

@@ -7,10 +7,11 @@ use pathfinding::prelude::dijkstra_all;
 use proptest::prelude::*;
 use std::cmp::Ordering;
 use std::collections::HashMap;
-use strider_core::{Cell, CellRect};
+use strider_core::{Cell, CellRect, Point2};
 use strider_plan::grid::{
     CostGrid, Dijkstra, MeanEdgeDijkstra, all_pairs, best_gait, choose_gait, distance_transform,
-    footprint_max, path_cost, planning_grid, segment_cost, smooth_path,
+    footprint_max, path_cost, planning_grid, segment_cost, segment_cost_between, smooth_between,
+    smooth_path,
 };
 
 /// f64 with a total order, as the oracle's cost type.
@@ -229,6 +230,88 @@ proptest! {
                 let cell = Cell::containing(x, y, d).unwrap();
                 prop_assert!(g.is_admissible(cell), "segment {:?}-{:?} enters {:?}", w[0], w[1], cell);
             }
+        }
+    }
+
+    /// Smoothing between exact end points: the polyline runs from `from` to `to` through a
+    /// subsequence of the path's cell centres, drops a centre only for an end point in that
+    /// cell, draws every shortcut through admissible cells at no more than the stretch it
+    /// replaces, and in the open (uniform cost, no obstacle on the way) is the straight segment.
+    #[test]
+    fn smoothing_between_points_is_admissible_and_no_dearer(
+        g in grid_strategy(16), a in any::<u32>(), b in any::<u32>(),
+        fa in (0.0f64..1.0, 0.0f64..1.0), fb in (0.0f64..1.0, 0.0f64..1.0),
+    ) {
+        let rect = g.rect();
+        let free: Vec<Cell> = rect.cells().filter(|&c| g.is_admissible(c)).collect();
+        prop_assume!(free.len() >= 2);
+        let (s, t) = (free[a as usize % free.len()], free[b as usize % free.len()]);
+        let mut dj = Dijkstra::new();
+        dj.run(&g, s).unwrap();
+        let Some(path) = dj.path_to(t) else { return Ok(()); };
+        let d = g.cell_size();
+        // Points anywhere inside the first and last cells.
+        let at = |c: Cell, (u, v): (f64, f64)| Point2::new((c.i as f64 + u) * d, (c.j as f64 + v) * d);
+        let (from, to) = (at(s, fa), at(t, fb));
+        prop_assume!(Cell::containing(from.x, from.y, d) == Some(s));
+        prop_assume!(Cell::containing(to.x, to.y, d) == Some(t));
+        let sm = smooth_between(&g, from, &path, to);
+        prop_assert_eq!(sm.first(), Some(&from));
+        prop_assert_eq!(sm.last(), Some(&to));
+        // The polyline before pulling: the end points replace the centres of their cells.
+        let inner = if path.len() >= 2 { &path[1..path.len() - 1] } else { &path[..0] };
+        let mut cand = vec![from];
+        cand.extend(inner.iter().map(|c| c.center(d)));
+        cand.push(to);
+        // Its legs: the end legs as straight segments, the others as grid moves (Eq. 4).
+        let mut scratch = Vec::new();
+        let mut legs = Vec::new();
+        for k in 0..cand.len() - 1 {
+            legs.push(if k == 0 || k + 2 == cand.len() {
+                segment_cost_between(&g, cand[k], cand[k + 1], &mut scratch).unwrap_or(f64::INFINITY)
+            } else {
+                path_cost(&g, &path[k..=k + 1]).unwrap()
+            });
+        }
+        // The result is a subsequence of it with both ends.
+        let mut idx = Vec::new();
+        let mut k = 0;
+        for v in &sm {
+            let found = cand[k..].iter().position(|c| c == v);
+            prop_assert!(found.is_some(), "{:?} is not a later vertex", v);
+            k += found.unwrap();
+            idx.push(k);
+        }
+        prop_assert_eq!(idx.last(), Some(&(cand.len() - 1)));
+        // Every segment is admissible (dense sampling); a shortcut costs no more than the legs
+        // it replaces.
+        for (w, ix) in sm.windows(2).zip(idx.windows(2)) {
+            let c = segment_cost_between(&g, w[0], w[1], &mut scratch);
+            let budget: f64 = legs[ix[0]..ix[1]].iter().sum();
+            if ix[1] - ix[0] >= 2 {
+                prop_assert!(c.is_some(), "shortcut {:?}-{:?} not admissible", w[0], w[1]);
+                prop_assert!(c.unwrap() <= budget * (1.0 + 1e-6), "{:?} > {}", c, budget);
+            }
+            if c.is_none() {
+                continue; // an end leg through an inadmissible corner, driven as planned
+            }
+            for q in 0..=400 {
+                let f = q as f64 / 400.0;
+                let (x, y) = (w[0].x + f * (w[1].x - w[0].x), w[0].y + f * (w[1].y - w[0].y));
+                let cell = Cell::containing(x, y, d).unwrap();
+                prop_assert!(g.is_admissible(cell), "segment {:?}-{:?} enters {:?}", w[0], w[1], cell);
+            }
+        }
+        // Uniform cost and a clear straight line: the straight segment.
+        let flat = CostGrid::new(rect, d, g.costs().iter().map(|c| if c.is_finite() { 1.0 } else { *c }).collect()).unwrap();
+        let Some(straight) = segment_cost_between(&flat, from, to, &mut scratch) else { return Ok(()); };
+        let mut dj = Dijkstra::new();
+        dj.run(&flat, s).unwrap();
+        let path = dj.path_to(t).unwrap();
+        let sm = smooth_between(&flat, from, &path, to);
+        if path.len() <= 5 {
+            // Within the look-ahead of the string pulling.
+            prop_assert_eq!(sm.clone(), vec![from, to], "straight {}", straight);
         }
     }
 

@@ -22,7 +22,7 @@ pub use all_pairs::{SiteCosts, all_pairs};
 pub use cost_grid::{CostGrid, GridError};
 pub use dijkstra::{Dijkstra, NO_PRED, SearchError, path_cost};
 pub use mean_edge::MeanEdgeDijkstra;
-pub use smooth::{segment_cost, smooth_path};
+pub use smooth::{segment_cost, segment_cost_between, smooth_between, smooth_path};
 pub use transform::{
     BestGait, best_gait, choose_gait, choose_gait_with, distance_transform, footprint_max,
     planning_grid,

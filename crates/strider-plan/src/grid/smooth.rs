@@ -20,8 +20,8 @@
 
 use super::cost_grid::CostGrid;
 use std::f64::consts::SQRT_2;
-use strider_core::Cell;
 use strider_core::grid::CellRay;
+use strider_core::{Cell, Point2};
 
 /// Consecutive rejected cells after which the scan from a vertex stops.
 const LOOKAHEAD: usize = 4;
@@ -38,29 +38,103 @@ pub fn smooth_path(grid: &CostGrid, path: &[Cell]) -> Vec<Cell> {
         return path.to_vec();
     }
     let d = grid.cell_size();
-    // prefix[k]: Eq. 4 cost of path[0..=k] (source-cell convention).
-    let mut prefix = Vec::with_capacity(path.len());
-    prefix.push(0.0);
-    for w in path.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        let len = if a.i != b.i && a.j != b.j {
-            SQRT_2
-        } else {
-            1.0
-        } * d;
-        let c = grid.cost(a).map_or(f64::INFINITY, f64::from);
-        prefix.push(prefix[prefix.len() - 1] + len * c);
+    let pts: Vec<Point2> = path.iter().map(|c| c.center(d)).collect();
+    let legs: Vec<f64> = path
+        .windows(2)
+        .map(|w| step_cost(grid, w[0], w[1]))
+        .collect();
+    pull(grid, &pts, &legs)
+        .into_iter()
+        .map(|k| path[k])
+        .collect()
+}
+
+/// [`smooth_path`] for a robot driven from the exact point `from` to the exact point `to`
+/// along the cell path `path` (typically: `from` in its first cell, `to` in its last). The
+/// result is a polyline from `from` to `to` through a subsequence of the path's cell centres.
+///
+/// A path cell's centre is left out when the end point lying in that cell replaces it: a robot
+/// standing in the first cell does not walk to its centre first, and a goal point in the last
+/// cell is driven to directly. Shortcuts then start at `from` and end at `to` themselves, so a
+/// path whose cheapest route is the straight segment `from`–`to` is driven exactly along it,
+/// not through the cell centres next to it. The guarantees of [`smooth_path`] hold for every
+/// shortcut; the legs from `from` and to `to` are costed by [`segment_cost_between`], and one
+/// that touches an inadmissible cell (an end point outside the admissible grid) is driven as it
+/// is, never cut across to a later vertex unless that shortcut is itself admissible.
+pub fn smooth_between(grid: &CostGrid, from: Point2, path: &[Cell], to: Point2) -> Vec<Point2> {
+    let d = grid.cell_size();
+    let (Some(&first), Some(&last)) = (path.first(), path.last()) else {
+        return vec![from, to];
+    };
+    let inside = |p: Point2, c: Cell| Cell::containing(p.x, p.y, d) == Some(c);
+    let lo = usize::from(inside(from, first));
+    let hi = path.len() - usize::from(inside(to, last));
+    // Vertices: `from`, the kept cell centres path[lo..hi], `to`.
+    let cells = &path[lo.min(hi)..hi];
+    let mut pts = Vec::with_capacity(cells.len() + 2);
+    pts.push(from);
+    pts.extend(cells.iter().map(|c| c.center(d)));
+    pts.push(to);
+    let mut scratch = Vec::new();
+    let mut end_leg = |a: Point2, b: Point2| {
+        segment_cost_between(grid, a, b, &mut scratch).unwrap_or(f64::INFINITY)
+    };
+    let mut legs = Vec::with_capacity(pts.len() - 1);
+    legs.push(end_leg(pts[0], pts[1]));
+    legs.extend(cells.windows(2).map(|w| step_cost(grid, w[0], w[1])));
+    if pts.len() > 2 {
+        legs.push(end_leg(pts[pts.len() - 2], pts[pts.len() - 1]));
     }
-    let mut out = vec![path[0]];
+    pull(grid, &pts, &legs)
+        .into_iter()
+        .map(|k| pts[k])
+        .collect()
+}
+
+/// Eq. 4 with decision 21 for one move of a cell path: d or √2·d times the source cell's cost
+/// (`+∞` outside the grid).
+fn step_cost(grid: &CostGrid, a: Cell, b: Cell) -> f64 {
+    let len = if a.i != b.i && a.j != b.j {
+        SQRT_2
+    } else {
+        1.0
+    } * grid.cell_size();
+    grid.cost(a).map_or(f64::INFINITY, |c| len * f64::from(c))
+}
+
+/// Greedy string pulling over the polyline `pts`, where `legs[k]` is the cost of driving from
+/// `pts[k]` to `pts[k + 1]` as planned (`+∞` for a leg that may not be cut short from either
+/// side unless the shortcut is admissible). Returns the indices of the kept vertices, first and
+/// last included.
+fn pull(grid: &CostGrid, pts: &[Point2], legs: &[f64]) -> Vec<usize> {
+    debug_assert_eq!(legs.len() + 1, pts.len());
+    // Prefix sums of the finite legs, and counts of the infinite ones: the budget of a shortcut
+    // over an infinite leg is unbounded (no ∞ − ∞).
+    let mut prefix = Vec::with_capacity(pts.len());
+    let mut infinite = Vec::with_capacity(pts.len());
+    prefix.push(0.0);
+    infinite.push(0usize);
+    for &l in legs {
+        let (p, n) = (prefix[prefix.len() - 1], infinite[infinite.len() - 1]);
+        if l.is_finite() {
+            prefix.push(p + l);
+            infinite.push(n);
+        } else {
+            prefix.push(p);
+            infinite.push(n + 1);
+        }
+    }
+    let mut out = vec![0];
     let mut scratch = Vec::new();
     let mut i = 0;
-    while i + 1 < path.len() {
+    while i + 1 < pts.len() {
         let mut best = i + 1;
         let mut misses = 0;
-        for j in i + 2..path.len() {
+        for j in i + 2..pts.len() {
+            let unbounded = infinite[j] > infinite[i];
             let budget = prefix[j] - prefix[i];
-            match segment_cost(grid, path[i], path[j], &mut scratch) {
-                Some(c) if c <= budget * (1.0 + COST_SLACK) => {
+            match segment_cost_between(grid, pts[i], pts[j], &mut scratch) {
+                Some(c) if unbounded || c <= budget * (1.0 + COST_SLACK) => {
                     best = j;
                     misses = 0;
                 }
@@ -72,7 +146,7 @@ pub fn smooth_path(grid: &CostGrid, path: &[Cell]) -> Vec<Cell> {
                 }
             }
         }
-        out.push(path[best]);
+        out.push(best);
         i = best;
     }
     out
@@ -88,12 +162,25 @@ pub fn segment_cost(
     scratch: &mut Vec<(Cell, f64)>,
 ) -> Option<f64> {
     let d = grid.cell_size();
-    let (pa, pb) = (a.center(d), b.center(d));
+    segment_cost_between(grid, a.center(d), b.center(d), scratch)
+}
+
+/// [`segment_cost`] between two points.
+pub fn segment_cost_between(
+    grid: &CostGrid,
+    pa: Point2,
+    pb: Point2,
+    scratch: &mut Vec<(Cell, f64)>,
+) -> Option<f64> {
+    let d = grid.cell_size();
     let len = pa.dist(pb);
     scratch.clear();
     let mut ray = CellRay::new(pa, pb, d);
     while let Some(step) = ray.next_with_exit() {
         scratch.push(step);
+    }
+    if scratch.is_empty() {
+        return None;
     }
     let mut total = 0.0;
     let mut prev_exit = 0.0;
