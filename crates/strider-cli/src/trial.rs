@@ -127,6 +127,7 @@ pub fn robot_mission_params(
         c_loss: num(sc, "c_loss", 10.0),
         dt_sample: num(sc, "dt_sample", 30.0),
         dt_fallback: num(sc, "dt_fallback", 30.0),
+        turning_baseline_s: num(sc, "turning_baseline_s", 0.5),
         bounds,
         time_limit_s: 3600.0,
         strategy,

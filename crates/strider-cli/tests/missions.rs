@@ -130,6 +130,37 @@ fn bounded_explorations_terminate_and_repeat_exactly() {
     }
 }
 
+/// A pose stream with heading jitter (5 mrad, as from a real robot's odometry) still yields
+/// cost samples: the heading rate is measured over the mission's turning baseline. Measured
+/// tick to tick the jitter reads as turning nearly all the time and hardly any sample is kept.
+#[test]
+fn cost_samples_survive_heading_jitter() {
+    let mut sc = scenario("courtyard-small", 1);
+    sc.sim.pose_sigma_yaw = 0.005;
+    let samples = |baseline: Option<f64>| {
+        let mut params = mission_params(&sc, Strategy::Gtsp, 1).expect("params");
+        params.time_limit_s = 200.0;
+        if let Some(b) = baseline {
+            params.turning_baseline_s = b;
+        }
+        let mut sim = Simulator::new(&sc, 1).expect("simulator");
+        let mut mission = Mission::new(params).expect("mission");
+        let log = mission.run(&mut sim).expect("mission runs").clone();
+        log.cost_samples.iter().sum::<usize>()
+    };
+    let (smoothed, tick) = (samples(None), samples(Some(0.05)));
+    assert!(
+        smoothed >= 50,
+        "only {smoothed} cost samples with a 0.5 s baseline"
+    );
+    assert!(tick * 4 < smoothed, "tick to tick {tick} vs {smoothed}");
+    // A baseline that is not positive is a parameter error.
+    let mut params = mission_params(&sc, Strategy::Gtsp, 1).expect("params");
+    params.turning_baseline_s = 0.0;
+    let err = Mission::new(params).err().expect("rejected").to_string();
+    assert!(err.contains("baseline"), "{err}");
+}
+
 /// The learning, mapping, planning and exploration crates cannot read simulator ground truth:
 /// none of them depends on the simulator or the scenario crate (normal dependencies).
 #[test]

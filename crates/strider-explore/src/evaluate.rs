@@ -145,6 +145,7 @@ pub fn run_tour<R: Robot>(
         iv.window_s,
         iv.rate_hz,
         crate::mission::TURNING_RATE,
+        params.turning_baseline_s,
     )
     .map_err(|e| MissionError::Params(e.to_string()))?;
     let signal = InverseVelocityCost::new(iv).map_err(|e| MissionError::Params(e.to_string()))?;

@@ -302,6 +302,7 @@ impl Mission {
                 iv.window_s + iv.smoothing_s,
                 iv.rate_hz,
                 TURNING_RATE,
+                params.turning_baseline_s,
             )
             .map_err(|e| MissionError::Params(e.to_string()))?
         };
@@ -659,19 +660,7 @@ impl Mission {
         if self.params.strategy != Strategy::SpatialOnly {
             let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
             for (g, goal) in &self.cost_goals {
-                // Sites where this gait already sampled are not pursued again: a robot stuck
-                // beside a site measures the cells it stands on, not the site, which stays a
-                // site of the goal and would draw the robot back for ever.
-                let fresh: Vec<Cell> = goal
-                    .sites
-                    .iter()
-                    .copied()
-                    .filter(|s| {
-                        self.sampled
-                            .iter()
-                            .all(|&(h, c)| h != *g || c.dist_cells(*s) > r)
-                    })
-                    .collect();
+                let fresh = unsampled_sites(&goal.sites, *g, &self.sampled, r);
                 if fresh.is_empty() {
                     continue;
                 }
@@ -1046,5 +1035,45 @@ impl SensorSink for Mission {
         self.map.integrate(cloud);
         self.log.phase_wall_s.mapping += w.elapsed().as_secs_f64();
         self.keyframes.record(cloud.sensor, self.pose.as_ref());
+    }
+}
+
+/// The sites of a cost goal of gait `gait` that are farther than `r` cells from every site and
+/// position where that gait already sampled (`sampled`: (gait, cell) pairs). A robot stuck
+/// beside a site measures the cells it stands on, not the site, which stays a site of the goal
+/// and would draw the robot back for ever; other gaits still sample there.
+fn unsampled_sites(sites: &[Cell], gait: u8, sampled: &[(u8, Cell)], r: f64) -> Vec<Cell> {
+    sites
+        .iter()
+        .copied()
+        .filter(|s| {
+            sampled
+                .iter()
+                .all(|&(h, c)| h != gait || c.dist_cells(*s) > r)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sites_where_the_same_gait_sampled_are_not_pursued_again() {
+        let sites = [Cell::new(0, 0), Cell::new(10, 0), Cell::new(20, 0)];
+        // Gait 1 sampled at (10, 0) while standing stuck at (3, 0).
+        let sampled = [(1, Cell::new(10, 0)), (1, Cell::new(3, 0))];
+        assert_eq!(
+            unsampled_sites(&sites, 1, &sampled, 4.0),
+            vec![Cell::new(20, 0)]
+        );
+        // A site 3 cells from where the robot stood, with a radius just below 3: pursued.
+        assert_eq!(
+            unsampled_sites(&sites, 1, &sampled, 2.9),
+            vec![Cell::new(0, 0), Cell::new(20, 0)]
+        );
+        // Another gait's samples do not count.
+        assert_eq!(unsampled_sites(&sites, 0, &sampled, 4.0), sites.to_vec());
+        assert_eq!(unsampled_sites(&sites, 1, &[], 4.0), sites.to_vec());
     }
 }

@@ -95,6 +95,11 @@ pub struct MissionParams {
     pub dt_sample: f64,
     /// Δt_fallback, duration of the stuck reflex, s.
     pub dt_fallback: f64,
+    /// Baseline over which the heading rate is measured to tell turning from walking, s
+    /// (strategy-table key `turning_baseline_s`, default 0.5): long enough to average out
+    /// the pose stream's heading jitter, and a legged robot's body sway, about a gait cycle.
+    /// See [`strider_learn::signals::TurningTime`].
+    pub turning_baseline_s: f64,
     /// Exploration bounds; goals outside are ignored.
     pub bounds: Option<WorldRect>,
     /// Mission time limit (robot time), s.

@@ -441,18 +441,31 @@ fn tanh_bound_is_eq_20() {
 
 const OMEGA: f64 = 0.1;
 
+/// A baseline shorter than any tick: the heading rate from one pose to the next.
+const TICK: f64 = 0.001;
+
 /// Brute force: Σ over accepted poses with stamp ≥ now − span of their tick's duration when the
-/// heading rate over the tick exceeds OMEGA.
-fn brute_turning(accepted: &[(f64, f64)], span: f64) -> f64 {
+/// heading rate exceeds OMEGA, the rate taken from the newest earlier pose at least `baseline`
+/// old (the first pose when none is).
+fn brute_turning(accepted: &[(f64, f64)], span: f64, baseline: f64) -> f64 {
     let Some(&(now, _)) = accepted.last() else {
         return 0.0;
     };
     (1..accepted.len())
         .filter(|&i| accepted[i].0 >= now - span)
         .map(|i| {
-            let dt = accepted[i].0 - accepted[i - 1].0;
-            let rate = strider_core::geom::wrap_angle(accepted[i].1 - accepted[i - 1].1).abs() / dt;
-            if rate > OMEGA { dt } else { 0.0 }
+            let (t, y) = accepted[i];
+            let j = (0..i)
+                .rev()
+                .find(|&j| accepted[j].0 <= t - baseline)
+                .unwrap_or(0);
+            let rate =
+                strider_core::geom::wrap_angle(y - accepted[j].1).abs() / (t - accepted[j].0);
+            if rate > OMEGA {
+                t - accepted[i - 1].0
+            } else {
+                0.0
+            }
         })
         .sum()
 }
@@ -463,8 +476,10 @@ proptest::proptest! {
         steps in proptest::collection::vec((0.01f64..0.2, -0.05f64..0.05, 0u8..20), 1..400),
         window in 0.3f64..3.0,
         extra in 0.0f64..3.0,
+        baseline in proptest::prop_oneof![proptest::strategy::Just(TICK), 0.01f64..1.0],
     ) {
-        let mut h = TurningTime::new(window, window + extra, 20.0, OMEGA).unwrap();
+        // Sized for the fastest stream the steps make, so no pose is dropped.
+        let mut h = TurningTime::new(window, window + extra, 100.0, OMEGA, baseline).unwrap();
         let mut accepted: Vec<(f64, f64)> = Vec::new();
         let (mut t, mut yaw) = (0.0, 3.0);
         for &(dt, dyaw, bad) in &steps {
@@ -480,19 +495,53 @@ proptest::proptest! {
                     accepted.push((t, yaw));
                 }
             }
-            proptest::prop_assert!((h.in_window() - brute_turning(&accepted, window)).abs() < 1e-9);
             proptest::prop_assert!(
-                (h.in_support() - brute_turning(&accepted, window + extra)).abs() < 1e-9
+                (h.in_window() - brute_turning(&accepted, window, baseline)).abs() < 1e-9
+            );
+            proptest::prop_assert!(
+                (h.in_support() - brute_turning(&accepted, window + extra, baseline)).abs() < 1e-9
             );
         }
     }
+}
+
+/// Heading jitter of a logged pose stream is not turning over a 0.5 s baseline (tick to tick
+/// it is), and a real turn still is.
+#[test]
+fn turning_time_over_a_baseline_ignores_heading_jitter() {
+    use rand::{RngExt, SeedableRng};
+    let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(7);
+    // Gaussian heading jitter of 5 mrad (Box–Muller).
+    let mut jitter = move || {
+        let (u, v): (f64, f64) = (rng.random_range(1e-12..1.0), rng.random());
+        0.005 * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    };
+    let mut smooth = TurningTime::new(5.0, 5.0, 20.0, OMEGA, 0.5).unwrap();
+    let mut raw = TurningTime::new(5.0, 5.0, 20.0, OMEGA, TICK).unwrap();
+    for k in 0..200u32 {
+        let (t, yaw) = (k as f64 / HZ, 1.0 + jitter());
+        smooth.push(t, yaw);
+        raw.push(t, yaw);
+    }
+    assert_eq!(smooth.in_window(), 0.0);
+    assert!(raw.in_window() > 1.0, "tick to tick: {}", raw.in_window());
+    // Then a 2 s turn at 0.4 rad/s with the same jitter: turning for about its length.
+    for k in 200..240u32 {
+        let yaw = 1.0 + 0.4 * (k - 199) as f64 / HZ + jitter();
+        smooth.push(k as f64 / HZ, yaw);
+    }
+    assert!(
+        (smooth.in_window() - 2.0).abs() <= 0.15,
+        "{}",
+        smooth.in_window()
+    );
 }
 
 #[test]
 fn turning_time_of_a_turn_on_the_spot_then_straight() {
     // 0.3 rad/s for 5 s (an 86° turn), then straight: the 5 s window forgets the turn 5 s after
     // it ended, the 10 s support 10 s after.
-    let mut h = TurningTime::new(5.0, 10.0, 20.0, OMEGA).unwrap();
+    let mut h = TurningTime::new(5.0, 10.0, 20.0, OMEGA, TICK).unwrap();
     let mut yaw = 0.0;
     for k in 0..=100u32 {
         yaw = 0.3 * k as f64 / HZ;
@@ -515,7 +564,7 @@ fn turning_time_of_a_turn_on_the_spot_then_straight() {
     }
     // Wrapping across ±π counts the short way round: 0.1 rad in 0.05 s is turning, a slow
     // drift of 0.004 rad per tick (0.08 rad/s) is not.
-    let mut h = TurningTime::new(5.0, 5.0, 20.0, OMEGA).unwrap();
+    let mut h = TurningTime::new(5.0, 5.0, 20.0, OMEGA, TICK).unwrap();
     h.push(0.0, std::f64::consts::PI - 0.05);
     h.push(0.05, -std::f64::consts::PI + 0.05);
     assert_relative_eq!(h.in_window(), 0.05, max_relative = 1e-9);
@@ -529,11 +578,12 @@ fn turning_time_of_a_turn_on_the_spot_then_straight() {
 
 #[test]
 fn turning_time_rejects_bad_parameters_and_counts_skips() {
-    assert!(TurningTime::new(0.0, 1.0, 20.0, OMEGA).is_err());
-    assert!(TurningTime::new(1.0, f64::NAN, 20.0, OMEGA).is_err());
-    assert!(TurningTime::new(1.0, 1.0, -1.0, OMEGA).is_err());
-    assert!(TurningTime::new(1.0, 1.0, 20.0, 0.0).is_err());
-    let mut h = TurningTime::new(1.0, 2.0, 20.0, OMEGA).unwrap();
+    assert!(TurningTime::new(0.0, 1.0, 20.0, OMEGA, TICK).is_err());
+    assert!(TurningTime::new(1.0, f64::NAN, 20.0, OMEGA, TICK).is_err());
+    assert!(TurningTime::new(1.0, 1.0, -1.0, OMEGA, TICK).is_err());
+    assert!(TurningTime::new(1.0, 1.0, 20.0, 0.0, TICK).is_err());
+    assert!(TurningTime::new(1.0, 1.0, 20.0, OMEGA, 0.0).is_err());
+    let mut h = TurningTime::new(1.0, 2.0, 20.0, OMEGA, TICK).unwrap();
     h.push(1.0, 0.0);
     h.push(1.0, 1.0);
     h.push(0.5, 1.0);
@@ -542,7 +592,7 @@ fn turning_time_rejects_bad_parameters_and_counts_skips() {
     assert_eq!(h.skips().non_finite, 1);
     assert_eq!(h.in_window(), 0.0);
     // A stream faster than the ring was sized for drops the oldest poses from both sums.
-    let mut h = TurningTime::new(1.0, 1.0, 1.0, OMEGA).unwrap();
+    let mut h = TurningTime::new(1.0, 1.0, 1.0, OMEGA, TICK).unwrap();
     for k in 0..100 {
         h.push(k as f64 * 0.001, k as f64 * 0.01);
     }

@@ -44,6 +44,7 @@ fn params() -> MissionParams {
         c_loss: 10.0,
         dt_sample: 30.0,
         dt_fallback: 30.0,
+        turning_baseline_s: 0.5,
         bounds: None,
         time_limit_s: 10.0,
         strategy: Strategy::Gtsp,
