@@ -46,6 +46,8 @@
 //! # bounds = [[-5.0, -5.0], [5.0, 5.0]]   # optional
 //! # [mission.map]                # MapParams (cell_size, r_robot, r_sensor, …)
 //! # [mission.parameters]         # the keys of a scenario's [strategy] table
+//! # turning_baseline_s = 0.5     # e.g.: heading-rate baseline, s, that tells turning from
+//! #                              # walking; about a gait cycle for a robot whose body sways
 //! ```
 //!
 //! Topics in the log that are not named here are ignored. The pose topic and every cloud

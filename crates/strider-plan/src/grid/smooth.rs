@@ -17,6 +17,10 @@
 //! planning grid never exceeds the grid path's. The scan from each vertex stops after a few
 //! consecutive rejected cells (greedy string pulling), which keeps the work near-linear in the
 //! path length.
+//!
+//! [`smooth_between`] does the same for a robot driven between exact points: the robot's
+//! position and the goal point replace the centres of their own cells, so a straight cheapest
+//! route runs from the robot to the goal point itself, not through the cell centres beside it.
 
 use super::cost_grid::CostGrid;
 use std::f64::consts::SQRT_2;
