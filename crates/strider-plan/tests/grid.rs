@@ -77,6 +77,19 @@ fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-12)
 }
 
+/// The cheapest path between two admissible cells picked by `a` and `b`, if there are two and
+/// they are connected.
+fn cheapest_path(g: &CostGrid, a: u32, b: u32) -> Option<(Cell, Cell, Vec<Cell>)> {
+    let free: Vec<Cell> = g.rect().cells().filter(|&c| g.is_admissible(c)).collect();
+    if free.len() < 2 {
+        return None;
+    }
+    let (s, t) = (free[a as usize % free.len()], free[b as usize % free.len()]);
+    let mut dj = Dijkstra::new();
+    dj.run(g, s).ok()?;
+    Some((s, t, dj.path_to(t)?))
+}
+
 /// A random grid: size, cell size, costs log-uniform in [1, 10] or (to exercise the binary-heap
 /// fallback of extreme cost ratios) [1, 1e6], with ~25 % inadmissible cells.
 fn grid_strategy(max: u32) -> impl Strategy<Value = CostGrid> {
@@ -195,13 +208,7 @@ proptest! {
     /// traversal), and each shortcut costs no more than the grid sub-path it replaces.
     #[test]
     fn smoothed_paths_are_admissible_and_no_dearer(g in grid_strategy(16), a in any::<u32>(), b in any::<u32>()) {
-        let rect = g.rect();
-        let free: Vec<Cell> = rect.cells().filter(|&c| g.is_admissible(c)).collect();
-        prop_assume!(free.len() >= 2);
-        let (s, t) = (free[a as usize % free.len()], free[b as usize % free.len()]);
-        let mut dj = Dijkstra::new();
-        dj.run(&g, s).unwrap();
-        let Some(path) = dj.path_to(t) else { return Ok(()); };
+        let Some((_, _, path)) = cheapest_path(&g, a, b) else { return Ok(()); };
         let sm = smooth_path(&g, &path);
         prop_assert_eq!(sm.first(), path.first());
         prop_assert_eq!(sm.last(), path.last());
@@ -242,13 +249,7 @@ proptest! {
         g in grid_strategy(16), a in any::<u32>(), b in any::<u32>(),
         fa in (0.0f64..1.0, 0.0f64..1.0), fb in (0.0f64..1.0, 0.0f64..1.0),
     ) {
-        let rect = g.rect();
-        let free: Vec<Cell> = rect.cells().filter(|&c| g.is_admissible(c)).collect();
-        prop_assume!(free.len() >= 2);
-        let (s, t) = (free[a as usize % free.len()], free[b as usize % free.len()]);
-        let mut dj = Dijkstra::new();
-        dj.run(&g, s).unwrap();
-        let Some(path) = dj.path_to(t) else { return Ok(()); };
+        let Some((s, t, path)) = cheapest_path(&g, a, b) else { return Ok(()); };
         let d = g.cell_size();
         // Points anywhere inside the first and last cells.
         let at = |c: Cell, (u, v): (f64, f64)| Point2::new((c.i as f64 + u) * d, (c.j as f64 + v) * d);
@@ -303,7 +304,7 @@ proptest! {
             }
         }
         // Uniform cost and a clear straight line: the straight segment.
-        let flat = CostGrid::new(rect, d, g.costs().iter().map(|c| if c.is_finite() { 1.0 } else { *c }).collect()).unwrap();
+        let flat = CostGrid::new(g.rect(), d, g.costs().iter().map(|c| if c.is_finite() { 1.0 } else { *c }).collect()).unwrap();
         let Some(straight) = segment_cost_between(&flat, from, to, &mut scratch) else { return Ok(()); };
         let mut dj = Dijkstra::new();
         dj.run(&flat, s).unwrap();
