@@ -17,9 +17,8 @@
 //!   kink, which costs energy the model does not see.
 
 use serde::Serialize;
-use strider_core::grid::CellRay;
 use strider_core::{Cell, CellRect, Point2};
-use strider_plan::grid::{CostGrid, Dijkstra};
+use strider_plan::grid::{CostGrid, Dijkstra, segment_cost_between};
 use strider_plan::tsplib::{CostMatrix, Instance};
 use strider_plan::{SolverParams, solve};
 
@@ -267,8 +266,10 @@ impl TourPlanner {
                 .path_to(self.sites[b])
                 .ok_or(TourError::Unreachable { from: a, to: b })?;
             let leg = pull(grid, &cells, self.points[a], self.points[b]);
+            let mut scratch = Vec::new();
             for w in leg.windows(2) {
-                predicted += segment_cost(grid, w[0], w[1]).unwrap_or(f64::INFINITY);
+                predicted +=
+                    segment_cost_between(grid, w[0], w[1], &mut scratch).unwrap_or(f64::INFINITY);
             }
             path.extend_from_slice(&leg[1..]);
         }
@@ -282,30 +283,11 @@ impl TourPlanner {
     }
 }
 
-/// Cost of the straight segment `a`–`b` under `grid`, J: the cost of each cell it crosses times
-/// the length of the segment inside that cell (exact, from the shared Amanatides–Woo traversal).
-/// `None` when it leaves the grid or crosses an inadmissible cell.
-fn segment_cost(grid: &CostGrid, a: Point2, b: Point2) -> Option<f64> {
-    let len = a.dist(b);
-    let mut ray = CellRay::new(a, b, grid.cell_size());
-    let (mut total, mut entered) = (0.0, 0.0);
-    let mut any = false;
-    while let Some((cell, exit)) = ray.next_with_exit() {
-        any = true;
-        let c = grid.cost(cell)?;
-        if !c.is_finite() {
-            return None;
-        }
-        total += c as f64 * (exit - entered) * len;
-        entered = exit;
-    }
-    any.then_some(total)
-}
-
 /// The cell path `cells` from `start` to `end` (the exact waypoints in its first and last
 /// cells), pulled taut where a straight segment costs no more than the stretch of the path it
-/// replaces. Both are integrated with [`segment_cost`], so a straight run of cells is never
-/// refused for a discretisation difference.
+/// replaces. Both are integrated with the planner's [`segment_cost_between`] (J: each crossed
+/// cell's cost times the length inside it), so a straight run of cells is never refused for a
+/// discretisation difference.
 fn pull(grid: &CostGrid, cells: &[Cell], start: Point2, end: Point2) -> Vec<Point2> {
     let d = grid.cell_size();
     let m = cells.len();
@@ -316,9 +298,11 @@ fn pull(grid: &CostGrid, cells: &[Cell], start: Point2, end: Point2) -> Vec<Poin
     pts[0] = start;
     pts[m - 1] = end;
     // Cost of the polyline through the cell centres up to each vertex.
+    let mut scratch = Vec::new();
     let mut prefix = vec![0.0; m];
     for k in 1..m {
-        prefix[k] = prefix[k - 1] + segment_cost(grid, pts[k - 1], pts[k]).unwrap_or(f64::INFINITY);
+        prefix[k] = prefix[k - 1]
+            + segment_cost_between(grid, pts[k - 1], pts[k], &mut scratch).unwrap_or(f64::INFINITY);
     }
     let mut out = vec![start];
     let mut i = 0;
@@ -326,7 +310,7 @@ fn pull(grid: &CostGrid, cells: &[Cell], start: Point2, end: Point2) -> Vec<Poin
         let j = (i + 2..m)
             .rev()
             .find(|&j| {
-                segment_cost(grid, pts[i], pts[j])
+                segment_cost_between(grid, pts[i], pts[j], &mut scratch)
                     .is_some_and(|c| c <= (prefix[j] - prefix[i]) * (1.0 + 1e-6))
             })
             .unwrap_or(i + 1);
