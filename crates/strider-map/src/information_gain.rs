@@ -61,6 +61,9 @@ struct DiscTable {
     /// direction bin is b, by increasing distance.
     by_bin_start: Vec<u32>,
     by_bin: Vec<u32>,
+    /// The centre distance of each entry of `by_bin`, alongside: the delta update's wedge
+    /// scans search and walk these contiguously instead of loading each entry.
+    by_bin_r: Vec<f32>,
     /// `near[near_start[k]..near_start[k + 1]]`: the entries a cell at entry k can shadow
     /// when its shadow interval ends within [`NEAR_SHADOW`] of its centre distance (the
     /// entries of its direction bins with r ∈ [r_k − ½√2, r_k + NEAR_SHADOW]), by increasing
@@ -146,12 +149,14 @@ impl DiscTable {
             near[from..].sort_by(|&a, &b| entries[a as usize].r.total_cmp(&entries[b as usize].r));
             near_start.push(near.len() as u32);
         }
+        let by_bin_r = order.iter().map(|&k| entries[k as usize].r).collect();
         Self {
             entries,
             reach,
             lookup,
             by_bin_start,
             by_bin: order,
+            by_bin_r,
             near_start,
             near,
         }
@@ -570,11 +575,12 @@ impl GainView {
             } else {
                 for &(a, b) in ex.spans() {
                     for bin in a as usize..=b as usize {
-                        let group = &disc.by_bin
-                            [disc.by_bin_start[bin] as usize..disc.by_bin_start[bin + 1] as usize];
-                        let from = group.partition_point(|&k| disc.entries[k as usize].r < start);
-                        for &k in &group[from..] {
-                            if disc.entries[k as usize].r > end {
+                        let range =
+                            disc.by_bin_start[bin] as usize..disc.by_bin_start[bin + 1] as usize;
+                        let (group, rs) = (&disc.by_bin[range.clone()], &disc.by_bin_r[range]);
+                        let from = rs.partition_point(|&r| r < start);
+                        for (&k, &r) in group[from..].iter().zip(&rs[from..]) {
+                            if r > end {
                                 break;
                             }
                             visit(k as usize);
