@@ -105,10 +105,19 @@ impl DiscTable {
             .map(|&(di, dj)| di.unsigned_abs().max(dj.unsigned_abs()))
             .max()
             .unwrap_or(0);
-        let entries: Vec<DiscEntry> = offsets
+        let mut entries: Vec<DiscEntry> = offsets
             .into_iter()
             .map(|(di, dj)| Self::entry(di, dj))
             .collect();
+        // Entries in (direction bin, distance) order: the delta update walks a bin's entries
+        // outwards, so its per-entry state (visit stamps, visibility bits, the entries
+        // themselves) is then read sequentially instead of scattered over the disc.
+        entries.sort_by(|a, b| {
+            a.bin
+                .cmp(&b.bin)
+                .then(a.r.total_cmp(&b.r))
+                .then((a.dj, a.di).cmp(&(b.dj, b.di)))
+        });
         let side = 2 * reach as usize + 1;
         let mut lookup = vec![u32::MAX; side * side];
         for (k, e) in entries.iter().enumerate() {
