@@ -541,8 +541,13 @@ impl GainView {
             // Targets x now certainly hides (see `model_count_with`).
             let hides = e_new.is_some_and(|z| z as f64 > zs) && ex.inner.0 <= ex.inner.1;
             let far = ex.r + HALF_DIAG;
+            // A cell that could not block in the old view (unknown then, which is transparent,
+            // or not above ef) can only hide targets now: a target not visible before stays
+            // hidden by whatever hid it (a changed blocker recasts it in its own turn), so only
+            // the targets visible before need a look. Most of a wedge is known ground.
+            let only_hides = e_old.is_none();
             let mut visit = |k: usize| {
-                if scratch.seen[k] == scratch.stamp {
+                if scratch.seen[k] == scratch.stamp || (only_hides && !get_bit(vis, k)) {
                     return;
                 }
                 let e = disc.entries[k];
