@@ -483,9 +483,10 @@ impl GainView {
     }
 
     /// The change of 9·I_model at candidate `c` from the view `old` (same rectangle) to this
-    /// one, given the cells that differ between them (`changed`; `c` not among them) and the
-    /// visibility of every target that was unknown in `old` (`vis`, one bit per disc entry),
-    /// which it brings up to date.
+    /// one, given the cells that differ between them (`changed`; `c` not among them) with
+    /// their (new, old) elevations (`changed_z`, NaN for unknown) and the visibility of every
+    /// target that was unknown in `old` (`vis`, one bit per disc entry), which it brings up to
+    /// date.
     ///
     /// A target's term I_cell(t)·observable(c, t) can change only if (a) I_cell(t) changed,
     /// i.e. t is a changed cell or one of its 8-neighbours, or (b) a changed cell on the ray
@@ -505,6 +506,7 @@ impl GainView {
         old: &OldView,
         c: Cell,
         changed: &[Cell],
+        changed_z: &[(f32, f32)],
         disc: &DiscTable,
         h: f64,
         d: f64,
@@ -524,7 +526,12 @@ impl GainView {
             (dx.abs() <= reach && dy.abs() <= reach).then_some((dx, dy))
         };
         // (b) first: sight lines that may have changed are cast again.
-        for &x in changed {
+        for (&x, &(zn, zo)) in changed.iter().zip(changed_z) {
+            // Elevations above ef only (NaN, unknown, compares false).
+            let (e_new, e_old) = ((zn > ef).then_some(zn), (zo > ef).then_some(zo));
+            if e_new.is_none() && e_old.is_none() {
+                continue;
+            }
             let Some((dx, dy)) = in_range(x) else {
                 continue;
             };
@@ -532,8 +539,6 @@ impl GainView {
                 continue;
             };
             let ex = disc.entries[kx];
-            let e_new = self.elevation(x).filter(|&z| z > ef);
-            let e_old = elevation_in(old.elev, self.rect, x).filter(|&z| z > ef);
             let Some(z) = e_new.into_iter().chain(e_old).reduce(f32::max) else {
                 continue;
             };
@@ -708,9 +713,9 @@ fn put_bit(v: &mut [u64], k: usize, on: bool) {
     }
 }
 
-/// The previous state of a [`GainView`] during an incremental update.
+/// The previous state of a [`GainView`] during an incremental update (the previous elevations
+/// of the changed cells travel with them).
 struct OldView<'a> {
-    elev: &'a [f32],
     icount: &'a [u8],
 }
 
@@ -972,9 +977,11 @@ impl GainCache {
         let candidates = candidates(map, reach, bounds);
         let mut deltas: Vec<(usize, Cell)> = Vec::new();
         let mut changed_cells: Vec<Cell> = Vec::new();
-        // The view before this call's changes: elevations, and I_cell when it changed (else
-        // the current one serves).
-        let mut old: Option<(Vec<f32>, Option<Vec<u8>>)> = None;
+        // Their (new, old) elevations, NaN when unknown.
+        let mut changed_z: Vec<(f32, f32)> = Vec::new();
+        // The view before this call's changes: I_cell when it changed (else the current one
+        // serves).
+        let mut old: Option<Option<Vec<u8>>> = None;
         let rebuild = self.view.is_none() || self.bounds != bounds.copied();
         if rebuild {
             let rect = rect::expand(needed, disc.reach);
@@ -999,7 +1006,6 @@ impl GainCache {
             // Follow the map: cells that became observed or moved by more than dz.
             let fresh = map.elevation_raster(v.rect);
             let mut changed = vec![false; fresh.len()];
-            let old_elev = v.elev.clone();
             let mut known_changed = false;
             for (k, (&new, cur)) in fresh.iter().zip(v.elev.iter_mut()).enumerate() {
                 let differs = if new.is_nan() || cur.is_nan() {
@@ -1009,6 +1015,7 @@ impl GainCache {
                 };
                 if differs {
                     known_changed |= new.is_nan() != cur.is_nan();
+                    changed_z.push((new, *cur));
                     *cur = new;
                     changed[k] = true;
                     changed_cells.push(v.rect.cell(k));
@@ -1049,7 +1056,7 @@ impl GainCache {
                     }
                 }
             }
-            old = Some((old_elev, old_icount));
+            old = Some(old_icount);
         }
         let Some(view) = self.view.as_ref() else {
             return InfoGain::default();
@@ -1068,19 +1075,18 @@ impl GainCache {
                 (n, vis)
             })
             .collect();
-        if let Some((old_elev, old_icount)) = &old {
+        if let Some(old_icount) = &old {
             let ov = OldView {
-                elev: old_elev,
                 icount: old_icount.as_deref().unwrap_or(&view.icount),
             };
-            let changed = &changed_cells;
+            let (changed, changed_z) = (&changed_cells, &changed_z);
             let mut work: Vec<(usize, Cell, Vec<u64>, i64)> = deltas
                 .iter()
                 .map(|&(k, c)| (k, c, std::mem::take(&mut self.vis[k]), 0))
                 .collect();
             work.par_iter_mut()
                 .for_each_init(Scratch::default, |s, (_, c, vis, dn)| {
-                    *dn = view.delta_count(&ov, *c, changed, disc, h, d, s, vis);
+                    *dn = view.delta_count(&ov, *c, changed, changed_z, disc, h, d, s, vis);
                 });
             for (k, _, vis, dn) in work {
                 let n = self.counts[k] as i64 + dn;
