@@ -635,13 +635,13 @@ impl InverseVelocityCost {
 /// which enters the sample. A pose tick counts as turning when the heading rate exceeds
 /// `omega_turn`; the tick's duration is then added.
 ///
-/// The heading rate is measured over a *baseline* of `span_s` seconds: from the newest earlier
-/// pose at least `span_s` old (the first pose of the stream while it is younger) to the new
-/// one. Tick to tick, heading noise would swamp it: a logged pose with 5 mrad of independent
-/// heading jitter at 20 Hz gives rate noise of 0.14 rad/s, above any useful threshold, so every
-/// tick would count as turning and a real robot would store no cost sample; over 0.5 s the
-/// noise is 0.014 rad/s. A turn is then seen for up to `span_s` after it ends, which only
-/// widens the spans that are dropped.
+/// The heading rate is measured over a *baseline* of `baseline_s` seconds: from the newest
+/// earlier pose at least `baseline_s` old (the first pose of the stream while it is younger) to
+/// the new one. Tick to tick, heading noise would swamp it: a logged pose with 5 mrad of
+/// independent heading jitter at 20 Hz gives rate noise of 0.14 rad/s, above any useful
+/// threshold, so every tick would count as turning and a real robot would store no cost sample;
+/// over 0.5 s the noise is 0.014 rad/s. A turn is then seen for up to `baseline_s` after it
+/// ends, which only widens the spans that are dropped.
 ///
 /// A robot that turns on the spot at a path corner makes no headway for the length of the turn:
 /// a window spanning the turn measures the path's corner, not the terrain, and reads as stuck.
@@ -654,8 +654,8 @@ pub struct TurningTime {
     window_s: f64,
     support_s: f64,
     omega_turn: f64,
-    span_s: f64,
-    /// (stamp, yaw) of the poses of the last `span_s`, and the newest one before.
+    baseline_s: f64,
+    /// (stamp, yaw) of the poses of the last `baseline_s`, and the newest one before.
     baseline: Ring<(f64, f64)>,
     /// (stamp, yaw, seconds of turning since the previous pose) over the support span.
     poses: Ring<(f64, f64, f64)>,
@@ -669,27 +669,27 @@ pub struct TurningTime {
 impl TurningTime {
     /// A tracker over a `window_s` window and a `support_s` support (raised to `window_s` if
     /// shorter) for a pose stream of at most `rate_hz`, counting ticks whose heading rate over
-    /// a `span_s` baseline exceeds `omega_turn` rad/s; fails on a parameter that is not finite
-    /// and positive.
+    /// a `baseline_s`-second baseline exceeds `omega_turn` rad/s; fails on a parameter that is
+    /// not finite and positive.
     pub fn new(
         window_s: f64,
         support_s: f64,
         rate_hz: f64,
         omega_turn: f64,
-        span_s: f64,
+        baseline_s: f64,
     ) -> Result<Self, SignalError> {
         check_positive("window_s", window_s)?;
         check_positive("support_s", support_s)?;
         check_positive("rate_hz", rate_hz)?;
         check_positive("omega_turn", omega_turn)?;
-        check_positive("baseline_s", span_s)?;
+        check_positive("baseline_s", baseline_s)?;
         let support_s = support_s.max(window_s);
         Ok(Self {
             window_s,
             support_s,
             omega_turn,
-            span_s,
-            baseline: Ring::new(ring_capacity(span_s, rate_hz) + 1),
+            baseline_s,
+            baseline: Ring::new(ring_capacity(baseline_s, rate_hz) + 1),
             poses: Ring::new(ring_capacity(support_s, rate_hz)),
             in_window_len: 0,
             sum_window: 0.0,
@@ -709,12 +709,12 @@ impl TurningTime {
             self.skips.out_of_order += 1;
             return;
         }
-        // Keep the newest pose at least span_s old at the front of the baseline.
+        // Keep the newest pose at least baseline_s old at the front of the baseline.
         while self.baseline.len() >= 2
             && self
                 .baseline
                 .get(1)
-                .is_some_and(|(t, _)| t <= stamp - self.span_s)
+                .is_some_and(|(t, _)| t <= stamp - self.baseline_s)
         {
             self.baseline.pop_front();
         }
