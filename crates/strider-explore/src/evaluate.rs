@@ -206,7 +206,7 @@ pub fn run_tour<R: Robot>(
             let view = plan_view?;
             // Waypoints may sit next to an obstacle or the bounds, which the footprint cannot
             // approach: use the nearest cell where the planning grid lets the centre be.
-            let centre_ok = |c: Cell| view.grid.cost(c).is_some_and(f32::is_finite);
+            let centre_ok = |c: Cell| view.grid.is_admissible(c);
             let src = nearest_where(map.cell_at(from.x, from.y)?, &near, centre_ok)?;
             let dst = nearest_where(map.cell_at(b.x, b.y)?, &near, centre_ok)?;
             let cells = view.path(&mut Dijkstra::new(), src, dst)?;

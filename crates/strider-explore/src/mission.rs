@@ -804,11 +804,7 @@ impl Mission {
         // would look unreachable.
         let here = view
             .as_ref()
-            .and_then(|v| {
-                nearest_where(here, &self.anchor_offsets, |c| {
-                    v.grid.cost(c).is_some_and(f32::is_finite)
-                })
-            })
+            .and_then(|v| nearest_where(here, &self.anchor_offsets, |c| v.grid.is_admissible(c)))
             .unwrap_or(here);
         let tour = view.as_ref().and_then(|v| {
             plan_tour(
@@ -933,7 +929,7 @@ impl Mission {
     /// admissible map cell.
     fn centre_may_be(&self, q: Point2) -> bool {
         match (&self.view, self.map.cell_at(q.x, q.y)) {
-            (Some(v), Some(c)) => v.grid.cost(c).is_some_and(f32::is_finite),
+            (Some(v), Some(c)) => v.grid.is_admissible(c),
             _ => self.map.is_admissible_at(q.x, q.y),
         }
     }
