@@ -657,8 +657,8 @@ pub struct TurningTime {
     baseline_s: f64,
     /// (stamp, yaw) of the poses of the last `baseline_s`, and the newest one before.
     baseline: Ring<(f64, f64)>,
-    /// (stamp, yaw, seconds of turning since the previous pose) over the support span.
-    poses: Ring<(f64, f64, f64)>,
+    /// (stamp, seconds of turning since the previous pose) over the support span.
+    poses: Ring<(f64, f64)>,
     /// How many of the newest `poses` lie in the window span.
     in_window_len: usize,
     sum_window: f64,
@@ -705,7 +705,7 @@ impl TurningTime {
             self.skips.non_finite += 1;
             return;
         }
-        if self.poses.back().is_some_and(|(t, _, _)| stamp <= t) {
+        if self.poses.back().is_some_and(|(t, _)| stamp <= t) {
             self.skips.out_of_order += 1;
             return;
         }
@@ -723,7 +723,7 @@ impl TurningTime {
             .front()
             .map(|(t0, y0)| strider_core::geom::wrap_angle(yaw - y0).abs() / (stamp - t0));
         let turn = match (self.poses.back(), rate) {
-            (Some((t, _, _)), Some(r)) if r > self.omega_turn => stamp - t,
+            (Some((t, _)), Some(r)) if r > self.omega_turn => stamp - t,
             _ => 0.0,
         };
         // (A faster stream than the ring was sized for drops the oldest: a shorter baseline.)
@@ -733,12 +733,12 @@ impl TurningTime {
             self.skips.overrun += 1;
             self.drop_front();
         }
-        self.poses.push_back((stamp, yaw, turn));
+        self.poses.push_back((stamp, turn));
         self.in_window_len += 1;
         self.sum_window += turn;
         self.sum_support += turn;
         while self.in_window_len > 0 {
-            let Some((t, _, turn)) = self.poses.get(self.poses.len() - self.in_window_len) else {
+            let Some((t, turn)) = self.poses.get(self.poses.len() - self.in_window_len) else {
                 break;
             };
             if t >= stamp - self.window_s {
@@ -750,7 +750,7 @@ impl TurningTime {
         while self
             .poses
             .front()
-            .is_some_and(|(t, _, _)| t < stamp - self.support_s)
+            .is_some_and(|(t, _)| t < stamp - self.support_s)
         {
             self.drop_front();
         }
@@ -764,7 +764,7 @@ impl TurningTime {
     }
 
     fn drop_front(&mut self) {
-        if let Some((_, _, turn)) = self.poses.pop_front() {
+        if let Some((_, turn)) = self.poses.pop_front() {
             self.sum_support -= turn;
             if self.in_window_len > self.poses.len() {
                 self.sum_window -= turn;
