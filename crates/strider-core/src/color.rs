@@ -36,14 +36,24 @@ impl Lab {
     }
 }
 
-#[inline]
-fn srgb_to_linear(c: u8) -> f32 {
+/// IEC 61966-2-1 decoding of one 8-bit channel to linear light.
+fn srgb_decode(c: u8) -> f32 {
     let c = c as f32 / 255.0;
     if c <= 0.04045 {
         c / 12.92
     } else {
         ((c + 0.055) / 1.055).powf(2.4)
     }
+}
+
+/// [`srgb_decode`] of every 8-bit value, built once: the decoding's `powf` was the bulk of
+/// [`rgb_to_lab`], which runs for every map cell at every learning update.
+static SRGB_LINEAR: std::sync::LazyLock<[f32; 256]> =
+    std::sync::LazyLock::new(|| std::array::from_fn(|c| srgb_decode(c as u8)));
+
+#[inline]
+fn srgb_to_linear(c: u8) -> f32 {
+    SRGB_LINEAR[c as usize]
 }
 
 #[inline]
@@ -108,9 +118,11 @@ impl PrototypeQuantizer {
     }
     /// Index of the prototype nearest to `lab` (ties: the lower index).
     pub fn nearest_lab(&self, lab: Lab) -> usize {
+        // Squared ΔE76: the same order without a square root per prototype.
         let mut best = (0, f32::INFINITY);
         for (k, p) in self.labs.iter().enumerate() {
-            let d = lab.delta_e76(*p);
+            let (dl, da, db) = (lab.l - p.l, lab.a - p.a, lab.b - p.b);
+            let d = dl * dl + da * da + db * db;
             if d < best.1 {
                 best = (k, d);
             }
@@ -141,6 +153,41 @@ mod tests {
         assert_abs_diff_eq!(r.l, 53.24, epsilon = 0.05);
         assert_abs_diff_eq!(r.a, 80.09, epsilon = 0.05);
         assert_abs_diff_eq!(r.b, 67.20, epsilon = 0.05);
+    }
+
+    /// The table-driven conversion against a direct f64 evaluation of IEC 61966-2-1 and
+    /// CIE 1976 over a lattice of colours (every channel value appears).
+    #[test]
+    fn lab_matches_a_direct_evaluation() {
+        let lin = |c: u8| {
+            let c = c as f64 / 255.0;
+            if c <= 0.04045 {
+                c / 12.92
+            } else {
+                ((c + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        let f = |t: f64| {
+            let d = 6.0 / 29.0;
+            if t > d * d * d {
+                t.cbrt()
+            } else {
+                t / (3.0 * d * d) + 4.0 / 29.0
+            }
+        };
+        for r in (0..=255u8).step_by(3) {
+            for (g, b) in [(r, 255 - r), (0, r), (r / 2, 17), (200, r)] {
+                let (lr, lg, lb) = (lin(r), lin(g), lin(b));
+                let x = 0.4124564 * lr + 0.3575761 * lg + 0.1804375 * lb;
+                let y = 0.2126729 * lr + 0.7151522 * lg + 0.0721750 * lb;
+                let z = 0.0193339 * lr + 0.1191920 * lg + 0.9503041 * lb;
+                let (fx, fy, fz) = (f(x / 0.95047), f(y), f(z / 1.08883));
+                let lab = rgb_to_lab(Rgb8::new(r, g, b));
+                assert_abs_diff_eq!(lab.l as f64, 116.0 * fy - 16.0, epsilon = 1e-3);
+                assert_abs_diff_eq!(lab.a as f64, 500.0 * (fx - fy), epsilon = 1e-3);
+                assert_abs_diff_eq!(lab.b as f64, 200.0 * (fy - fz), epsilon = 1e-3);
+            }
+        }
     }
 
     #[test]

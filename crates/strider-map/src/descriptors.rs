@@ -131,7 +131,7 @@ fn histograms<const N: usize>(
     let q = PrototypeQuantizer::new(N);
     let bins: Vec<u8> = view
         .color
-        .iter()
+        .par_iter()
         .map(|c| c.map_or(u8::MAX, |c| q.nearest(c) as u8))
         .collect();
     let disc = disc_offsets(r, map.cell_size());
