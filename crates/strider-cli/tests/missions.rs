@@ -161,6 +161,42 @@ fn cost_samples_survive_heading_jitter() {
     assert!(err.contains("baseline"), "{err}");
 }
 
+/// The learning update leaves the planning view to the planner, but the gait choice reads that
+/// view: at the next tour decision (1 / tour_hz later) it reflects the new models, whether or
+/// not a new tour is planned.
+#[test]
+fn planning_view_follows_the_models_within_a_tour_period() {
+    let sc = scenario("courtyard-small", 1);
+    let mut params = mission_params(&sc, Strategy::Gtsp, 1).expect("params");
+    params.time_limit_s = 300.0;
+    let period = 1.0 / params.rates.tour_hz;
+    let mut sim = Simulator::new(&sc, 1).expect("simulator");
+    let mut mission = Mission::new(params).expect("mission");
+    // (time, learning updates, updates the view reflects) at every observation.
+    let mut seen: Vec<(f64, u64, u64)> = Vec::new();
+    mission
+        .run_watched(&mut sim, |m, p| {
+            if let Some(v) = m.view_learning_updates() {
+                seen.push((p.time_s, m.learning_updates(), v));
+            }
+        })
+        .expect("mission runs");
+    let updates = seen.last().map_or(0, |s| s.1);
+    assert!(updates >= 10, "only {updates} learning updates");
+    let mut caught_up = 0;
+    for (k, &(t, learned, _)) in seen.iter().enumerate() {
+        let Some(&(t2, _, _)) = seen[k..].iter().find(|s| s.2 >= learned) else {
+            panic!("the view never reflects learning update {learned} (seen at {t:.1} s)");
+        };
+        assert!(
+            t2 - t <= 2.0 * period + 0.1,
+            "learning update {learned} seen at {t:.1} s, in the view only at {t2:.1} s"
+        );
+        caught_up += (t2 > t) as usize;
+    }
+    assert!(caught_up > 0, "the view never lagged: the test saw nothing");
+}
+
 /// The learning, mapping, planning and exploration crates cannot read simulator ground truth:
 /// none of them depends on the simulator or the scenario crate (normal dependencies).
 #[test]

@@ -637,11 +637,10 @@ impl Mission {
             }
         }
         self.learned_once = true;
-        // The costs changed: refresh the view the gait choice reads.
+        // The costs changed: the planning view is rebuilt by the next tour decision (the
+        // planner's module, at most 1 / tour_hz later), not here, where it would be built
+        // twice on the way from new data to a new tour (the map changes in between).
         self.learn_generation += 1;
-        if self.params.strategy != Strategy::SpatialOnly && !self.passive {
-            self.refresh_view(CostMode::Learned);
-        }
         let ms = w.elapsed().as_secs_f64() * 1e3;
         self.log.learning_ms.push(ms);
         self.goal_ms_since_replan.1 = ms;
@@ -720,8 +719,28 @@ impl Mission {
         self.view_key = Some(key);
     }
 
-    /// Alg. 1 lines 11–25. Returns true when the exploration is finished.
+    /// The planner's module at `tour_hz`: Alg. 1 lines 11–25, then, when no new tour was
+    /// planned, the planning view brought to the latest models (the gait choice reads it; a
+    /// new tour has just rebuilt it). Returns the termination when the exploration is finished.
     fn decide<R: Robot>(
+        &mut self,
+        robot: &mut R,
+        t: f64,
+        state: MotionState,
+    ) -> Option<Termination> {
+        let end = self.decide_tour(robot, t, state);
+        if end.is_none()
+            && self.params.strategy != Strategy::SpatialOnly
+            && self.view_key.is_some_and(|k| k.1 != self.learn_generation)
+        {
+            self.map.update_passability();
+            self.refresh_view(CostMode::Learned);
+        }
+        end
+    }
+
+    /// Alg. 1 lines 11–25. Returns the termination when the exploration is finished.
+    fn decide_tour<R: Robot>(
         &mut self,
         robot: &mut R,
         t: f64,
@@ -983,6 +1002,18 @@ impl Mission {
     /// The gait the mission commands.
     pub fn gait(&self) -> GaitId {
         self.gait
+    }
+
+    /// Learning updates (Alg. 6 over every gait) run so far.
+    pub fn learning_updates(&self) -> u64 {
+        self.learn_generation
+    }
+
+    /// How many learning updates the planning view (the tour's costs and the gait choice)
+    /// reflects; `None` before the first view. It catches up with
+    /// [`learning_updates`](Self::learning_updates) at the next tour decision.
+    pub fn view_learning_updates(&self) -> Option<u64> {
+        self.view.as_ref().and(self.view_key).map(|k| k.1)
     }
 }
 
