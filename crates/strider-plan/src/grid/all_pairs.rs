@@ -1,5 +1,5 @@
 //! Cost matrix between a set of sites: one early-exit Dijkstra per site (decision 23), run in
-//! parallel with rayon, each block of sites reusing one [`Dijkstra`]'s buffers.
+//! parallel with rayon, each worker reusing one [`Dijkstra`]'s buffers for all its sites.
 //!
 //! Entry `(a, b)` is C(ψ*(site_a, site_b)) of `001` Eq. 2 under the source-cell edge cost of
 //! decision 21, so the matrix is **not** symmetric in general. The diagonal is 0. A pair without
@@ -9,6 +9,7 @@
 use super::cost_grid::CostGrid;
 use super::dijkstra::Dijkstra;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering as AtomicOrdering};
 use strider_core::Cell;
 
 /// Dense row-major `n × n` matrix of path costs between sites.
@@ -54,10 +55,11 @@ impl SiteCosts {
     }
 }
 
-/// Costs between all ordered pairs of `sites` on `grid`. Sites are split into a few contiguous
-/// blocks per rayon thread; each block runs its searches on one [`Dijkstra`], so its buffers and
-/// the grid's move masks are built once per block, not per site. The result does not depend on
-/// the thread count.
+/// Costs between all ordered pairs of `sites` on `grid`. One worker per rayon thread takes
+/// sites one at a time from a shared counter and runs their searches on its own [`Dijkstra`],
+/// so buffers and the grid's move masks are built once per worker, not per site, and the
+/// workers finish within about one search of each other (fixed blocks of sites could leave one
+/// thread idle for a whole block). The result does not depend on the thread count.
 pub fn all_pairs(grid: &CostGrid, sites: &[Cell]) -> SiteCosts {
     let n = sites.len();
     if n == 0 {
@@ -66,34 +68,44 @@ pub fn all_pairs(grid: &CostGrid, sites: &[Cell]) -> SiteCosts {
             data: Vec::new(),
         };
     }
-    let blocks = rayon::current_num_threads().max(1) * 4;
-    let chunk = n.div_ceil(blocks).max(1);
-    // The grid's move masks are built once and copied into each block's search.
+    // Dynamic scheduling, one site at a time: each worker owns one search state (its buffers
+    // and the grid's move masks, built once here and copied) and takes the next site from a
+    // shared counter, so the workers finish within about one search of each other. Each row
+    // depends only on its site, so the result does not depend on the schedule.
+    let workers = rayon::current_num_threads().clamp(1, n);
     let mut proto = Dijkstra::new();
     proto.prepare(grid);
-    let parts: Vec<Vec<f64>> = sites
-        .par_chunks(chunk)
-        .enumerate()
-        .map(|(ci, block)| {
+    let next = AtomicUsize::new(0);
+    let rows: Vec<Vec<(usize, Vec<f64>)>> = (0..workers)
+        .into_par_iter()
+        .map(|_| {
             let mut dj = proto.clone();
-            let mut out = Vec::with_capacity(block.len() * n);
-            let mut row = Vec::with_capacity(n);
             let mut pending = Vec::with_capacity(n);
-            for (k, &s) in block.iter().enumerate() {
-                if dj.row_into(grid, s, sites, &mut pending, &mut row).is_err() {
+            let mut done = Vec::new();
+            loop {
+                let a = next.fetch_add(1, AtomicOrdering::Relaxed);
+                if a >= n {
+                    break;
+                }
+                let mut row = Vec::with_capacity(n);
+                if dj
+                    .row_into(grid, sites[a], sites, &mut pending, &mut row)
+                    .is_err()
+                {
                     row.clear();
                     row.resize(n, f64::INFINITY);
                 }
-                row[ci * chunk + k] = 0.0;
-                out.extend_from_slice(&row);
+                row[a] = 0.0;
+                done.push((a, row));
             }
-            out
+            done
         })
         .collect();
-    SiteCosts {
-        n,
-        data: parts.concat(),
+    let mut data = vec![f64::INFINITY; n * n];
+    for (a, row) in rows.into_iter().flatten() {
+        data[a * n..(a + 1) * n].copy_from_slice(&row);
     }
+    SiteCosts { n, data }
 }
 
 #[cfg(test)]
