@@ -130,7 +130,6 @@ impl MissionParams {
         GaitId(best as u8)
     }
 
-    /// The fastest gait (ties: the lowest index): the start gait and the reactive gait.
     /// True when sensor `id` sees all around (horizontal field of view ≥ 360°).
     pub fn sees_all_around(&self, id: usize) -> bool {
         self.sensor_hfov_deg.get(id).is_none_or(|&f| f >= 360.0)
@@ -142,6 +141,7 @@ impl MissionParams {
         !(0..self.sensor_hfov_deg.len().max(1)).all(|k| self.sees_all_around(k))
     }
 
+    /// The fastest gait (ties: the lowest index): the start gait and the reactive gait.
     pub fn fastest_gait(&self) -> GaitId {
         let g = &self.gaits;
         GaitId(
