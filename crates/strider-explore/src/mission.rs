@@ -969,7 +969,8 @@ impl Mission {
             return self.gait;
         };
         // Alg. 4 line 6 on the per-gait grids of the latest planning view (rebuilt at every
-        // replan and learning update); keep the gait where no gait's footprint is admissible.
+        // replan, and at the first tour decision after a learning update); keep the gait where
+        // no gait's footprint is admissible.
         self.view
             .as_ref()
             .and_then(|v| v.choose_gait(here))
