@@ -68,10 +68,9 @@ pub fn all_pairs(grid: &CostGrid, sites: &[Cell]) -> SiteCosts {
             data: Vec::new(),
         };
     }
-    // Dynamic scheduling, one site at a time: each worker owns one search state (its buffers
-    // and the grid's move masks, built once here and copied) and takes the next site from a
-    // shared counter, so the workers finish within about one search of each other. Each row
-    // depends only on its site, so the result does not depend on the schedule.
+    // The move masks are built once here and copied into each worker's search. Each row
+    // depends only on its site, so the result does not depend on the schedule; a worker that
+    // starts late (a busy pool) simply finds fewer sites left.
     let workers = rayon::current_num_threads().clamp(1, n);
     let mut proto = Dijkstra::new();
     proto.prepare(grid);
