@@ -75,18 +75,19 @@ pub fn all_pairs(grid: &CostGrid, sites: &[Cell]) -> SiteCosts {
     let mut proto = Dijkstra::new();
     proto.prepare(grid);
     let next = AtomicUsize::new(0);
-    let rows: Vec<Vec<(usize, Vec<f64>)>> = (0..workers)
+    // Per worker: the sites it took, in order, and their rows back to back.
+    let parts: Vec<(Vec<usize>, Vec<f64>)> = (0..workers)
         .into_par_iter()
         .map(|_| {
             let mut dj = proto.clone();
             let mut pending = Vec::with_capacity(n);
-            let mut done = Vec::new();
+            let mut row = Vec::with_capacity(n);
+            let (mut taken, mut rows) = (Vec::new(), Vec::new());
             loop {
                 let a = next.fetch_add(1, AtomicOrdering::Relaxed);
                 if a >= n {
                     break;
                 }
-                let mut row = Vec::with_capacity(n);
                 if dj
                     .row_into(grid, sites[a], sites, &mut pending, &mut row)
                     .is_err()
@@ -95,14 +96,17 @@ pub fn all_pairs(grid: &CostGrid, sites: &[Cell]) -> SiteCosts {
                     row.resize(n, f64::INFINITY);
                 }
                 row[a] = 0.0;
-                done.push((a, row));
+                taken.push(a);
+                rows.extend_from_slice(&row);
             }
-            done
+            (taken, rows)
         })
         .collect();
     let mut data = vec![f64::INFINITY; n * n];
-    for (a, row) in rows.into_iter().flatten() {
-        data[a * n..(a + 1) * n].copy_from_slice(&row);
+    for (taken, rows) in &parts {
+        for (&a, row) in taken.iter().zip(rows.chunks_exact(n)) {
+            data[a * n..(a + 1) * n].copy_from_slice(row);
+        }
     }
     SiteCosts { n, data }
 }

@@ -302,9 +302,9 @@ impl Dijkstra {
     ///
     /// `stop(p)` is asked before each settled cell is relaxed, `bucket_done(dist)` after each
     /// bucket; either ends the search (a stop leaves the rest of the bucket settled, with final
-    /// distances and predecessors, but not relaxed). With `PUBLIC` predecessors are recorded and on return the
-    /// distances are made positive again and `settled` is filled; without it (all-pairs rows)
-    /// neither happens, and settled cells keep negative distances.
+    /// distances and predecessors, but not relaxed). With `PUBLIC` predecessors are recorded
+    /// and on return the distances are made positive again and `settled` is filled; without it
+    /// (all-pairs rows) neither happens, and settled cells keep negative distances.
     fn bucket_search<const PUBLIC: bool>(
         &mut self,
         bq: &mut BucketQueue,
