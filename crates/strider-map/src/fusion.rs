@@ -46,9 +46,18 @@
 //!
 //! Two passes per scan over scratch rasters covering the scan's bounding box; the rasters are
 //! reused, so steady-state fusion allocates nothing.
+//!
+//! **Parallel passes.** A scan of the default camera (19 200 rays, about 12 000 returns in range)
+//! took about 0.5 ms to fuse on one core while the other sat idle; the per-return passes now
+//! take about 0.3 ms on two (default `strider run`, temporary instrumentation). They run over contiguous chunks of the scan, one private set of rasters per
+//! chunk, merged in chunk order: a per-cell maximum or minimum does not depend on the order, and
+//! the kept return is merged with the same strict `>` as the sequential scan, so the earliest of
+//! equally high returns wins. The result is bit-identical whatever the number of chunks (a test
+//! checks 1–7 chunks against each other).
 
 use crate::map::ElevationMap;
 use crate::params::ColorMode;
+use rayon::prelude::*;
 use strider_core::{Cell, CellRect, PointCloud};
 
 /// What one call to [`ElevationMap::fuse`] did.
@@ -83,6 +92,9 @@ pub(crate) struct FusionScratch {
     max_z: Vec<f32>,
     /// Per return, where pass 1 located it (reused by pass 2); `ci == u32::MAX` when skipped.
     located: Vec<Located>,
+    /// The private rasters of each chunk of returns (see "Parallel passes"); chunk 0's are
+    /// swapped with the merged ones above.
+    chunks: Vec<ChunkScratch>,
     /// Carving bound per cell: the lowest height at which a beam of this scan crossed the cell's
     /// column (pass 2), +∞ where none.
     carve_z: Vec<f32>,
@@ -100,6 +112,24 @@ pub(crate) struct FusionScratch {
     /// bound; +∞ when the neighbour is unobserved.
     bound_floor: Vec<f32>,
 }
+
+/// One chunk's share of the per-return passes: its own rasters over the scan rectangle (same
+/// meaning as in [`FusionScratch`]), its bounding box and its counts.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ChunkScratch {
+    max_z: Vec<f32>,
+    carve_z: Vec<f32>,
+    best_z: Vec<f32>,
+    best_var: Vec<f32>,
+    best_rgb: Vec<[u8; 3]>,
+    facing: Vec<u8>,
+    /// Bounding box of the chunk's usable returns: (x0, y0, x1, y1).
+    bbox: (f32, f32, f32, f32),
+    stats: FuseStats,
+}
+
+/// Fewest returns per chunk: below this, splitting costs more than it saves.
+const MIN_RETURNS_PER_CHUNK: usize = 4096;
 
 /// Where a return lies: cell column/row in the scan rectangle, position inside the cell (cell
 /// units) and its measurement variance σ².
@@ -153,6 +183,15 @@ impl ElevationMap {
     /// counted, never a panic. Marks changed cells for [`ElevationMap::update_passability`];
     /// use [`ElevationMap::integrate`] to do both.
     pub fn fuse(&mut self, cloud: &PointCloud) -> FuseStats {
+        let chunks = rayon::current_num_threads()
+            .min(cloud.points.len() / MIN_RETURNS_PER_CHUNK)
+            .max(1);
+        self.fuse_in_chunks(cloud, chunks)
+    }
+
+    /// [`ElevationMap::fuse`] with the per-return passes split into (at most) `chunks`
+    /// contiguous chunks of the scan. The result does not depend on `chunks`.
+    pub(crate) fn fuse_in_chunks(&mut self, cloud: &PointCloud, chunks: usize) -> FuseStats {
         let mut stats = FuseStats::default();
         let o = cloud.origin;
         if !(o.x.is_finite() && o.y.is_finite() && o.z.is_finite()) {
@@ -166,20 +205,44 @@ impl ElevationMap {
         let sd2 = (self.params.sigma_d * self.params.sigma_d) as f32;
         let kd = self.params.k_d as f32;
         let inv_d = (1.0 / d) as f32;
+        let pts = &cloud.points[..];
+        let cl = pts.len().div_ceil(chunks.max(1)).max(1);
+        let nch = pts.len().div_ceil(cl);
+        let s = &mut self.scratch;
+        if s.chunks.len() < nch {
+            s.chunks.resize_with(nch, ChunkScratch::default);
+        }
 
         // Pass 0: bounding box and counts.
-        let (mut x0, mut y0, mut x1, mut y1) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN);
-        for p in &cloud.points {
-            match classify_point(p, o, max_r2) {
-                Ok(_) => {
-                    x0 = x0.min(p.x);
-                    x1 = x1.max(p.x);
-                    y0 = y0.min(p.y);
-                    y1 = y1.max(p.y);
+        s.chunks[..nch]
+            .par_iter_mut()
+            .zip(pts.par_chunks(cl))
+            .for_each(|(c, pts)| {
+                let mut st = FuseStats::default();
+                let (mut x0, mut y0, mut x1, mut y1) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN);
+                for p in pts {
+                    match classify_point(p, o, max_r2) {
+                        Ok(_) => {
+                            x0 = x0.min(p.x);
+                            x1 = x1.max(p.x);
+                            y0 = y0.min(p.y);
+                            y1 = y1.max(p.y);
+                        }
+                        Err(true) => st.skipped_non_finite += 1,
+                        Err(false) => st.skipped_out_of_range += 1,
+                    }
                 }
-                Err(true) => stats.skipped_non_finite += 1,
-                Err(false) => stats.skipped_out_of_range += 1,
-            }
+                c.bbox = (x0, y0, x1, y1);
+                c.stats = st;
+            });
+        let (mut x0, mut y0, mut x1, mut y1) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN);
+        for c in &s.chunks[..nch] {
+            x0 = x0.min(c.bbox.0);
+            y0 = y0.min(c.bbox.1);
+            x1 = x1.max(c.bbox.2);
+            y1 = y1.max(c.bbox.3);
+            stats.skipped_non_finite += c.stats.skipped_non_finite;
+            stats.skipped_out_of_range += c.stats.skipped_out_of_range;
         }
         self.scans += 1;
         let (Some(lo), Some(hi)) = (
@@ -190,20 +253,8 @@ impl ElevationMap {
         };
         let rect = crate::rect::from_corners(lo, hi);
         let w = rect.width as usize;
+        let hgt = rect.height as usize;
         let n = rect.len();
-        let s = &mut self.scratch;
-        s.max_z.clear();
-        s.max_z.resize(n, f32::NEG_INFINITY);
-        s.carve_z.clear();
-        s.carve_z.resize(n, f32::INFINITY);
-        s.best_z.clear();
-        s.best_z.resize(n, f32::NEG_INFINITY);
-        s.best_var.clear();
-        s.best_var.resize(n, 0.0);
-        s.best_rgb.clear();
-        s.best_rgb.resize(n, [0; 3]);
-        s.facing.clear();
-        s.facing.resize(n, 0);
         let (mi, mj) = (rect.min.i as f64, rect.min.j as f64);
         // Cell coordinates relative to the rect, computed exactly like `Cell::containing`.
         let locate = |p: &strider_core::ColoredPoint| -> (usize, usize, f32, f32) {
@@ -221,106 +272,169 @@ impl ElevationMap {
         // Pass 1: highest return per cell, and ray carving over the last stretch of each beam.
         let (wf, hf) = (w as f32, rect.height as f32);
         s.located.clear();
-        for (idx, p) in cloud.points.iter().enumerate() {
-            let Ok(r2) = classify_point(p, o, max_r2) else {
-                s.located.push(Located {
-                    ci: u32::MAX,
-                    ..Located::default()
-                });
-                continue;
-            };
-            let (ci, cj, u, v) = locate(p);
-            let k = cj * w + ci;
-            let m = &mut s.max_z[k];
-            *m = m.max(p.z);
-            let kr = kd * r2;
-            let var = sd2 + kr * kr;
-            s.located.push(Located {
-                ci: ci as u32,
-                cj: cj as u32,
-                u,
-                v,
-                var,
-            });
-            if idx % CARVE_EVERY != 0 {
-                continue;
-            }
+        s.located.resize(pts.len(), Located::default());
+        s.chunks[..nch]
+            .par_iter_mut()
+            .zip(pts.par_chunks(cl))
+            .zip(s.located.par_chunks_mut(cl))
+            .enumerate()
+            .for_each(|(chunk, ((c, pts), located))| {
+                c.max_z.clear();
+                c.max_z.resize(n, f32::NEG_INFINITY);
+                c.carve_z.clear();
+                c.carve_z.resize(n, f32::INFINITY);
+                for (j, (p, l)) in pts.iter().zip(located.iter_mut()).enumerate() {
+                    let Ok(r2) = classify_point(p, o, max_r2) else {
+                        l.ci = u32::MAX;
+                        continue;
+                    };
+                    let (ci, cj, u, v) = locate(p);
+                    let k = cj * w + ci;
+                    let m = &mut c.max_z[k];
+                    *m = m.max(p.z);
+                    let kr = kd * r2;
+                    let var = sd2 + kr * kr;
+                    *l = Located {
+                        ci: ci as u32,
+                        cj: cj as u32,
+                        u,
+                        v,
+                        var,
+                    };
+                    if !(chunk * cl + j).is_multiple_of(CARVE_EVERY) {
+                        continue;
+                    }
 
-            // Beam geometry in cell units relative to the rect. Trust the beam up to
-            // CARVE_SIGMAS·σ short of the return: the true hit may lie anywhere within the range
-            // noise before it.
-            let back = CARVE_SIGMAS * var.sqrt();
-            let (vx, vy, vz) = (p.x - o[0], p.y - o[1], p.z - o[2]);
-            let lh = (vx * vx + vy * vy).sqrt() * inv_d; // horizontal beam length, cells
-            let r = r2.sqrt();
-            if lh < 1e-3 || back >= r {
-                continue;
+                    // Beam geometry in cell units relative to the rect. Trust the beam up to
+                    // CARVE_SIGMAS·σ short of the return: the true hit may lie anywhere within
+                    // the range noise before it.
+                    let back = CARVE_SIGMAS * var.sqrt();
+                    let (vx, vy, vz) = (p.x - o[0], p.y - o[1], p.z - o[2]);
+                    let lh = (vx * vx + vy * vy).sqrt() * inv_d; // horizontal beam length, cells
+                    let r = r2.sqrt();
+                    if lh < 1e-3 || back >= r {
+                        continue;
+                    }
+                    // Unit horizontal direction (cells) and height change per cell travelled.
+                    let inv_lh = 1.0 / lh;
+                    let (hx, hy, dzc) = (vx * inv_d * inv_lh, vy * inv_d * inv_lh, vz * inv_lh);
+                    let back_c = lh * back / r; // trusted-end offset, horizontal cells
+                    let (ex, ey) = (ci as f32 + u - hx * back_c, cj as f32 + v - hy * back_c);
+                    let ez = p.z - dzc * back_c;
+                    let reach = lh - back_c; // horizontal cells from the origin to the trusted end
+                    for step in 0..=CARVE_SAMPLES {
+                        let b = 0.5 * step as f32;
+                        if b > reach {
+                            break;
+                        }
+                        let (x, y) = (ex - hx * b, ey - hy * b);
+                        if !(x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
+                            continue;
+                        }
+                        let (xi, yi) = (x as usize, y as usize);
+                        if (xi, yi) == (ci, cj) {
+                            continue; // a return never carves its own cell
+                        }
+                        let cz = &mut c.carve_z[yi * w + xi];
+                        *cz = cz.min(ez - dzc * b);
+                    }
+                }
+            });
+        // Merge: per-cell maximum and minimum, independent of the order.
+        let Some((first, rest)) = s.chunks[..nch].split_first_mut() else {
+            return stats;
+        };
+        std::mem::swap(&mut s.max_z, &mut first.max_z);
+        std::mem::swap(&mut s.carve_z, &mut first.carve_z);
+        for c in rest.iter() {
+            for (a, b) in s.max_z.iter_mut().zip(&c.max_z) {
+                *a = a.max(*b);
             }
-            // Unit horizontal direction (cells) and height change per cell travelled.
-            let inv_lh = 1.0 / lh;
-            let (hx, hy, dzc) = (vx * inv_d * inv_lh, vy * inv_d * inv_lh, vz * inv_lh);
-            let back_c = lh * back / r; // trusted-end offset, horizontal cells
-            let (ex, ey) = (ci as f32 + u - hx * back_c, cj as f32 + v - hy * back_c);
-            let ez = p.z - dzc * back_c;
-            let reach = lh - back_c; // horizontal cells from the origin to the trusted end
-            for step in 0..=CARVE_SAMPLES {
-                let b = 0.5 * step as f32;
-                if b > reach {
-                    break;
-                }
-                let (x, y) = (ex - hx * b, ey - hy * b);
-                if !(x >= 0.0 && y >= 0.0 && x < wf && y < hf) {
-                    continue;
-                }
-                let (xi, yi) = (x as usize, y as usize);
-                if (xi, yi) == (ci, cj) {
-                    continue; // a return never carves its own cell
-                }
-                let c = &mut s.carve_z[yi * w + xi];
-                *c = c.min(ez - dzc * b);
+            for (a, b) in s.carve_z.iter_mut().zip(&c.carve_z) {
+                *a = a.min(*b);
             }
         }
 
-        let hgt = rect.height as usize;
         // Pass 2: mixed-cell rule and carving bound, then the highest kept return per cell is
         // the measurement.
-        for (p, l) in cloud.points.iter().zip(&s.located) {
-            if l.ci == u32::MAX {
-                continue;
-            }
-            let (ci, cj, u, v, var) = (l.ci as usize, l.cj as usize, l.u, l.v, l.var);
-            let k = cj * w + ci;
-            let sigma3 = 3.0 * var.sqrt();
-            let edge = sigma3 * inv_d; // 3σ in cell units
-            let below = |nk: usize| p.z < s.max_z[nk] - sigma3;
-            let face = (u < edge && ci > 0 && below(k - 1))
-                || (u > 1.0 - edge && ci + 1 < w && below(k + 1))
-                || (v < edge && cj > 0 && below(k - w))
-                || (v > 1.0 - edge && cj + 1 < hgt && below(k + w));
-            if face {
-                stats.face_points += 1;
-                continue;
-            }
-            if p.z > s.carve_z[k] + sigma3 {
-                // A beam of this scan crossed this cell's column below this return.
-                stats.carved_points += 1;
-                continue;
-            }
-            stats.fused_points += 1;
-            if p.z > s.best_z[k] {
-                // Face bound: on the edge facing the sensor, with a neighbour across it that
-                // was seen in this scan and lies wholly > 3σ lower (see the module docs).
-                s.best_z[k] = p.z;
-                s.best_var[k] = var;
-                s.best_rgb[k] = p.rgb;
-                // Near a corner both edges may face the sensor; either may be the one hit.
-                s.facing[k] = (u < edge && o[0] < p.x) as u8
-                    | ((u > 1.0 - edge && o[0] > p.x) as u8) << 1
-                    | ((v < edge && o[1] < p.y) as u8) << 2
-                    | ((v > 1.0 - edge && o[1] > p.y) as u8) << 3;
+        let (max_z, carve_z) = (&s.max_z, &s.carve_z);
+        s.chunks[..nch]
+            .par_iter_mut()
+            .zip(pts.par_chunks(cl))
+            .zip(s.located.par_chunks(cl))
+            .for_each(|((c, pts), located)| {
+                c.best_z.clear();
+                c.best_z.resize(n, f32::NEG_INFINITY);
+                c.best_var.clear();
+                c.best_var.resize(n, 0.0);
+                c.best_rgb.clear();
+                c.best_rgb.resize(n, [0; 3]);
+                c.facing.clear();
+                c.facing.resize(n, 0);
+                let mut st = FuseStats::default();
+                for (p, l) in pts.iter().zip(located) {
+                    if l.ci == u32::MAX {
+                        continue;
+                    }
+                    let (ci, cj, u, v, var) = (l.ci as usize, l.cj as usize, l.u, l.v, l.var);
+                    let k = cj * w + ci;
+                    let sigma3 = 3.0 * var.sqrt();
+                    let edge = sigma3 * inv_d; // 3σ in cell units
+                    let below = |nk: usize| p.z < max_z[nk] - sigma3;
+                    let face = (u < edge && ci > 0 && below(k - 1))
+                        || (u > 1.0 - edge && ci + 1 < w && below(k + 1))
+                        || (v < edge && cj > 0 && below(k - w))
+                        || (v > 1.0 - edge && cj + 1 < hgt && below(k + w));
+                    if face {
+                        st.face_points += 1;
+                        continue;
+                    }
+                    if p.z > carve_z[k] + sigma3 {
+                        // A beam of this scan crossed this cell's column below this return.
+                        st.carved_points += 1;
+                        continue;
+                    }
+                    st.fused_points += 1;
+                    if p.z > c.best_z[k] {
+                        // Face bound: on the edge facing the sensor, with a neighbour across
+                        // it that was seen in this scan and lies wholly > 3σ lower (see the
+                        // module docs).
+                        c.best_z[k] = p.z;
+                        c.best_var[k] = var;
+                        c.best_rgb[k] = p.rgb;
+                        // Near a corner both edges may face the sensor; either may be the one
+                        // hit.
+                        c.facing[k] = (u < edge && o[0] < p.x) as u8
+                            | ((u > 1.0 - edge && o[0] > p.x) as u8) << 1
+                            | ((v < edge && o[1] < p.y) as u8) << 2
+                            | ((v > 1.0 - edge && o[1] > p.y) as u8) << 3;
+                    }
+                }
+                c.stats = st;
+            });
+        // Merge in chunk order with the same strict `>`: the earliest highest return wins, as
+        // in one sequential pass.
+        let (first, rest) = s.chunks[..nch].split_at_mut(1);
+        let first = &mut first[0];
+        std::mem::swap(&mut s.best_z, &mut first.best_z);
+        std::mem::swap(&mut s.best_var, &mut first.best_var);
+        std::mem::swap(&mut s.best_rgb, &mut first.best_rgb);
+        std::mem::swap(&mut s.facing, &mut first.facing);
+        for c in std::iter::once(&*first).chain(rest.iter()) {
+            stats.face_points += c.stats.face_points;
+            stats.carved_points += c.stats.carved_points;
+            stats.fused_points += c.stats.fused_points;
+        }
+        for c in rest.iter() {
+            for k in 0..n {
+                if c.best_z[k] > s.best_z[k] {
+                    s.best_z[k] = c.best_z[k];
+                    s.best_var[k] = c.best_var[k];
+                    s.best_rgb[k] = c.best_rgb[k];
+                    s.facing[k] = c.facing[k];
+                }
             }
         }
-
         self.face_bound_floors(rect);
         self.apply_measurements(rect, &mut stats);
         stats
@@ -712,6 +826,96 @@ mod tests {
         assert!(floor.abs() < 0.01, "floor cell corrupted: {floor}");
         let top = m.elevation(Cell::new(10, 5)).unwrap();
         assert!((top - 0.5).abs() < 0.01, "wall top {top}");
+    }
+
+    /// A scan of a floor, a wall and its face with coarse heights (so that equally high returns
+    /// with different colours share cells), a few unusable returns, from `origin`.
+    fn tied_scan(origin: Point3, seed: u64, n: usize) -> PointCloud {
+        let mut rng = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+        let mut next = move || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let points = (0..n)
+            .map(|k| {
+                let (x, y) = (next() * 3.0 - 1.0, next() * 3.0 - 1.0);
+                let z = match k % 7 {
+                    // Face returns on the wall's edge at x = 1.5, noisy in x.
+                    0 => {
+                        return ColoredPoint {
+                            x: 1.5 + (next() - 0.5) * 0.01,
+                            y,
+                            z: (next() * 11.0).floor() * 0.05,
+                            rgb: [k as u8, 7, 9],
+                        };
+                    }
+                    _ if x >= 1.5 => 0.5,
+                    _ => 0.0,
+                } + (next() * 3.0).floor() * 0.002;
+                let bad = k % 997 == 0;
+                ColoredPoint {
+                    x: if bad { f32::NAN } else { x },
+                    y,
+                    z,
+                    rgb: [(k % 251) as u8, (k / 251 % 251) as u8, 40],
+                }
+            })
+            .collect();
+        PointCloud {
+            stamp: 0.0,
+            sensor: 0,
+            origin,
+            points,
+        }
+    }
+
+    #[test]
+    fn fusion_does_not_depend_on_the_number_of_chunks() {
+        let scans: Vec<PointCloud> = (0..4)
+            .map(|s| tied_scan(Point3::new(0.1 * s as f64, 0.2, 0.6), s, 3000))
+            .collect();
+        let run = |chunks: usize| {
+            let mut m = ElevationMap::new(params());
+            let stats: Vec<FuseStats> = scans.iter().map(|c| m.fuse_in_chunks(c, chunks)).collect();
+            m.update_passability();
+            (m, stats)
+        };
+        let (one, one_stats) = run(1);
+        let rect = one.known_bounds().expect("cells observed");
+        assert!(
+            one_stats
+                .iter()
+                .any(|s| s.face_points > 0 && s.carved_points > 0)
+        );
+        assert!(one_stats.iter().all(|s| s.skipped_non_finite > 0));
+        for chunks in [2, 3, 7] {
+            let (m, stats) = run(chunks);
+            assert_eq!(stats, one_stats, "{chunks} chunks");
+            assert_eq!(m.known_bounds(), Some(rect));
+            for c in rect.cells() {
+                let (a, b) = (m.elevation(c), one.elevation(c));
+                assert_eq!(
+                    a.map(f32::to_bits),
+                    b.map(f32::to_bits),
+                    "{chunks} chunks, {c:?}"
+                );
+                let (a, b) = (m.variance(c), one.variance(c));
+                assert_eq!(
+                    a.map(f32::to_bits),
+                    b.map(f32::to_bits),
+                    "{chunks} chunks, {c:?}"
+                );
+                assert_eq!(m.color(c), one.color(c), "{chunks} chunks, {c:?}");
+                assert_eq!(m.hits(c), one.hits(c), "{chunks} chunks, {c:?}");
+                assert_eq!(
+                    m.passability(c),
+                    one.passability(c),
+                    "{chunks} chunks, {c:?}"
+                );
+            }
+        }
     }
 
     #[test]
