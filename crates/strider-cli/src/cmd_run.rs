@@ -14,7 +14,7 @@ use strider_explore::{Mission, MissionLog, Strategy};
 
 use crate::cmd_scenario::load;
 use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
-use strider_cli::trial::{mission_params, run_mission, run_mission_recorded, run_tours};
+use strider_cli::trial::{mission_params, on_worker, run_mission, run_mission_recorded, run_tours};
 use strider_core::color::COLOR_PROTOTYPES;
 
 pub(crate) fn median_max(v: &[f64]) -> (f64, f64) {
@@ -70,8 +70,12 @@ pub(crate) fn start_run(out: &Path, limit_s: f64) -> Result<indicatif::ProgressB
     Ok(bar)
 }
 
-/// Runs `strider run`.
+/// Runs `strider run` (on a pool thread, see [`on_worker`]).
 pub fn run(req: &RunRequest) -> Result<()> {
+    on_worker(|| run_on_worker(req))
+}
+
+fn run_on_worker(req: &RunRequest) -> Result<()> {
     let RunRequest {
         scenario: arg,
         world_seed,
