@@ -55,8 +55,12 @@ pub fn mission_params_of(c: &MissionConfig) -> Result<MissionParams> {
     ))
 }
 
-/// Runs `strider replay`.
+/// Runs `strider replay` (on a pool thread, see [`strider_cli::trial::on_worker`]).
 pub fn run(log_path: &Path, config: &Path, out: &Path) -> Result<()> {
+    strider_cli::trial::on_worker(|| run_on_worker(log_path, config, out))
+}
+
+fn run_on_worker(log_path: &Path, config: &Path, out: &Path) -> Result<()> {
     let wall = Instant::now();
     let cfg = ReplayConfig::load(config)?;
     let mut params = mission_params_of(&cfg.mission)?;
