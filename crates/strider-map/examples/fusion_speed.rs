@@ -1,4 +1,5 @@
-//! Single-core fusion throughput: random clouds of 10⁶ returns over a 6 × 5 m area.
+//! Fusion throughput on one thread and on every core: random clouds of 10⁶ returns over a
+//! 6 × 5 m area.
 //!
 //! `cargo run --release -p strider-map --example fusion_speed`
 
@@ -56,15 +57,31 @@ fn cpu_time() -> Option<f64> {
 }
 
 fn main() {
-    const POINTS: usize = 1_000_000;
-    const SCANS: usize = 20;
-    let mut rng = Rng(7);
-    let clouds: Vec<PointCloud> = (0..4).map(|_| cloud(&mut rng, POINTS)).collect();
+    let clouds: Vec<PointCloud> = {
+        let mut rng = Rng(7);
+        (0..4).map(|_| cloud(&mut rng, POINTS)).collect()
+    };
+    // Fusion splits a scan's per-return passes over the pool's threads: one thread first,
+    // then every core.
+    for threads in [1, 0] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool");
+        pool.install(|| run(&clouds));
+    }
+}
+
+const POINTS: usize = 1_000_000;
+const SCANS: usize = 20;
+
+fn run(clouds: &[PointCloud]) {
     let mut map = ElevationMap::new(MapParams::default());
     // Warm-up: allocates the tiles and the scratch rasters.
     for c in &clouds[..2] {
         map.fuse(c);
     }
+    let threads = rayon::current_num_threads();
     let t = Instant::now();
     let c0 = cpu_time();
     let mut total = 0;
@@ -74,7 +91,7 @@ fn main() {
     }
     let dt = t.elapsed().as_secs_f64();
     println!(
-        "fuse: {SCANS} scans × {POINTS} points in {dt:.3} s wall → {:.1} M points/s (one thread)",
+        "fuse on {threads} thread(s): {SCANS} scans × {POINTS} points in {dt:.3} s wall → {:.1} M points/s",
         total as f64 / dt / 1e6
     );
     if let (Some(a), Some(b)) = (c0, cpu_time()) {
