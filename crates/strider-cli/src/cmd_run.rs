@@ -590,7 +590,10 @@ identifications run since the previous one): median {gmed:.1} ms, max {gmax:.1} 
                 m.get("learning_set")
                     .map_or(String::new(), |v| v.to_string()),
                 m.get("classes").map_or(String::new(), |v| v.to_string()),
-                m.get("h_gt").map_or(String::new(), |v| v.to_string()),
+                m.get("h_gt").map_or(String::new(), |v| match v.as_f64() {
+                    Some(x) => format!("{x:.3}"),
+                    None => v.to_string(),
+                }),
             );
             for c in m
                 .get("class_table")
