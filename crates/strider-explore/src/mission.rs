@@ -441,8 +441,8 @@ impl Mission {
 
     /// Runs Alg. 1 until every goal is cleared or the time limit.
     ///
-    /// The loop's parallel parts (learning, all-pairs costs, and in the simulator ray casting
-    /// and fusion) use rayon's pool. Called from outside the pool, the calling thread sleeps
+    /// The loop's parallel parts (fusion, learning, all-pairs costs, and the simulator's ray
+    /// casting) use rayon's pool. Called from outside the pool, the calling thread sleeps
     /// through each of them while the pool's idle threads spin between them; calling it on a
     /// pool thread (`rayon::scope(|_| mission.run(robot))`, as `strider run` does) was 13 %
     /// faster on two cores, with the same result.
