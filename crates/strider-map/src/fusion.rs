@@ -416,17 +416,18 @@ impl ElevationMap {
             });
         // Merge in chunk order with the same strict `>`: the earliest highest return wins, as
         // in one sequential pass.
-        let (first, rest) = s.chunks[..nch].split_at_mut(1);
-        let first = &mut first[0];
-        std::mem::swap(&mut s.best_z, &mut first.best_z);
-        std::mem::swap(&mut s.best_var, &mut first.best_var);
-        std::mem::swap(&mut s.best_rgb, &mut first.best_rgb);
-        std::mem::swap(&mut s.facing, &mut first.facing);
-        for c in std::iter::once(&*first).chain(rest.iter()) {
+        for c in &s.chunks[..nch] {
             stats.face_points += c.stats.face_points;
             stats.carved_points += c.stats.carved_points;
             stats.fused_points += c.stats.fused_points;
         }
+        let Some((first, rest)) = s.chunks[..nch].split_first_mut() else {
+            return stats;
+        };
+        std::mem::swap(&mut s.best_z, &mut first.best_z);
+        std::mem::swap(&mut s.best_var, &mut first.best_var);
+        std::mem::swap(&mut s.best_rgb, &mut first.best_rgb);
+        std::mem::swap(&mut s.facing, &mut first.facing);
         for c in rest.iter() {
             for k in 0..n {
                 if c.best_z[k] > s.best_z[k] {
