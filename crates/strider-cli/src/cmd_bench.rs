@@ -120,9 +120,9 @@ fn run_task(task: &Task, time_limit: Option<f64>, mcap_dir: Option<&Path>) -> Re
         strategy: task.strategy.name().to_string(),
         world_seed: task.world_seed,
         seed: task.seed,
-        termination: format!("{:?}", log.run.termination),
-        exploration_time_s: log.run.exploration_time_s,
-        observed_cells: mission.map().observed_count(),
+        termination: format!("{:?}", mission.record().termination),
+        exploration_time_s: mission.record().exploration_time_s,
+        observed_cells: mission.body().map().observed_count(),
         tours: tours
             .iter()
             .map(|(name, rs)| {

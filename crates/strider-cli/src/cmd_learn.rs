@@ -389,17 +389,15 @@ fn record_stream(sc: &Scenario, seed: u64, pairs: usize) -> Result<Stream> {
     // cut at `pairs`: fewer pairs are the stream's beginning (the drive stops once they are in),
     // more pairs a denser sampling of the same passes.
     let spacing = ((path_length(&path) - 1.0) / (1.05 * pairs.max(300) as f64)).max(0.01);
-    let delta = sc
-        .strategy
-        .get("delta_desc")
-        .and_then(|v| v.as_float())
-        .unwrap_or(0.2);
+    // The `000` explorer's descriptor neighbourhood and cost window on this scenario.
+    let rbcm = strider_explore::registry::find("rbcm-greedy")?
+        .configure(strider_cli::trial::section(sc, "rbcm-greedy")?, &[])?;
+    let strider_explore::registry::Configured::Rbcm(rbcm) = rbcm else {
+        bail!("rbcm-greedy is not configured as the 000 explorer");
+    };
+    let delta = rbcm.delta_desc;
     let params = RollVarianceParams {
-        window_s: sc
-            .strategy
-            .get("cost_window_s")
-            .and_then(|v| v.as_float())
-            .unwrap_or(10.0),
+        window_s: rbcm.cost_window_s,
         rate_hz: sc.sim.proprio_rate_hz,
         pose_rate_hz: sc.sim.pose_rate_hz,
     };
@@ -733,9 +731,8 @@ fn record_c1(sc: &Scenario, seed: u64, stop_after: usize) -> Result<C1Trial> {
     };
     let mut path = vec![sc.start.position()];
     path.extend(tour.waypoints.iter().copied());
-    let window = sc
-        .strategy
-        .get("cost_window_s")
+    let window = strider_cli::trial::section(sc, "learn-bench")?
+        .and_then(|t| t.get("cost_window_s"))
         .and_then(|v| v.as_float())
         .unwrap_or(3.0);
     let energy = || -> Result<Probe> {

@@ -10,65 +10,18 @@ use serde_json::json;
 use strider_core::Point2;
 use strider_explore::evaluate::{NavigationMode, TourResult};
 use strider_explore::planner::{CostMode, PlanningView};
-use strider_explore::{Mission, MissionLog, Strategy};
+use strider_explore::registry::Configured;
+use strider_explore::{Mission, MissionLog, TourExplorer};
+use strider_scenario::Scenario;
 
 use crate::cmd_scenario::load;
 use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
-use strider_cli::trial::{mission_params, on_worker, run_mission, run_mission_recorded, run_tours};
+pub(crate) use crate::run_support::median_max;
+use crate::run_support::{RunRequest, checked_time_limit, start_run};
+use strider_cli::trial::{
+    configure, on_worker, robot_spec, run_mission, run_mission_recorded, run_tours,
+};
 use strider_core::color::COLOR_PROTOTYPES;
-
-pub(crate) fn median_max(v: &[f64]) -> (f64, f64) {
-    if v.is_empty() {
-        return (0.0, 0.0);
-    }
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    (s[s.len() / 2], s[s.len() - 1])
-}
-
-/// What `strider run` was asked to do.
-#[derive(Clone, Copy, Debug)]
-pub struct RunRequest<'a> {
-    /// Scenario name or file.
-    pub scenario: &'a str,
-    /// World seed of a built-in scenario.
-    pub world_seed: u64,
-    /// Strategy name.
-    pub strategy: &'a str,
-    /// Mission and simulator seed.
-    pub seed: u64,
-    /// Time limit override, simulated seconds.
-    pub time_limit: Option<f64>,
-    /// Output directory.
-    pub out: &'a Path,
-    /// MCAP recording file.
-    pub mcap: Option<&'a Path>,
-    /// Walking gait (rbcm-greedy only).
-    pub gait: Option<&'a str>,
-}
-
-/// Validates a `--time-limit` override.
-pub(crate) fn checked_time_limit(t: f64) -> Result<f64> {
-    if !(t.is_finite() && t > 0.0) {
-        bail!("--time-limit must be a positive number of seconds, got {t}");
-    }
-    Ok(t)
-}
-
-/// Creates the output directory and the progress bar of a mission of `limit_s` simulated
-/// seconds (on stderr, hidden when stderr is not a terminal).
-pub(crate) fn start_run(out: &Path, limit_s: f64) -> Result<indicatif::ProgressBar> {
-    fs::create_dir_all(out)
-        .with_context(|| format!("{}: cannot create directory", out.display()))?;
-    let bar = indicatif::ProgressBar::new(limit_s.max(1.0) as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{spinner} exploring {pos}/{len} s simulated ({elapsed}) {msg}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-    );
-    Ok(bar)
-}
 
 /// Runs `strider run` (on a pool thread, see [`on_worker`]).
 pub fn run(req: &RunRequest) -> Result<()> {
@@ -76,45 +29,34 @@ pub fn run(req: &RunRequest) -> Result<()> {
 }
 
 fn run_on_worker(req: &RunRequest) -> Result<()> {
+    let sc = load(req.scenario, req.world_seed)?;
+    let (_, configured) = configure(&sc, req.strategy, req.sets)?;
+    match &configured {
+        Configured::Tour(..) => run_tour(&sc, req, &configured),
+        Configured::Rbcm(table) => crate::cmd_run_rbcm::run(&sc, req, table),
+        Configured::Escape(mode, table) => crate::cmd_run_escape::run(&sc, req, *mode, table),
+    }
+}
+
+/// `strider run` of a `001` strategy: the mission, the benchmark tours in every navigation
+/// mode, the report and the figures.
+fn run_tour(sc: &Scenario, req: &RunRequest, configured: &Configured) -> Result<()> {
     let RunRequest {
-        scenario: arg,
         world_seed,
-        strategy,
         seed,
         time_limit,
         out,
         mcap,
-        gait,
+        ..
     } = *req;
-    if strategy == "rbcm-greedy" {
-        if mcap.is_some() {
-            bail!("--mcap records the 001 mission (gtsp, greedy, spatial-only), not rbcm-greedy");
-        }
-        return crate::cmd_run_rbcm::run(arg, world_seed, seed, time_limit, out, gait);
-    }
-    if strategy == "escape" || strategy == "rigid" {
-        if gait.is_some() {
-            bail!("--gait chooses the walking gait of rbcm-greedy; {strategy} has one gait");
-        }
-        return crate::cmd_run_escape::run(arg, world_seed, strategy, seed, time_limit, out, mcap);
-    }
-    if gait.is_some() {
-        bail!(
-            "--gait chooses the walking gait of rbcm-greedy; the {strategy} mission chooses gaits itself"
-        );
-    }
     let wall = Instant::now();
-    let Some(strategy) = Strategy::parse(strategy) else {
-        bail!(
-            "unknown strategy {strategy:?}; expected gtsp, greedy, spatial-only, rbcm-greedy, escape or rigid"
-        );
+    let Some(mut params) = configured.tour_mission(&robot_spec(sc), seed) else {
+        bail!("{} is not a 001 strategy", configured.name());
     };
-    let sc = load(arg, world_seed)?;
-    let mut params = mission_params(&sc, strategy, seed)?;
     if let Some(t) = time_limit {
-        params.time_limit_s = crate::cmd_run::checked_time_limit(t)?;
+        params.time_limit_s = checked_time_limit(t)?;
     }
-    let bar = crate::cmd_run::start_run(out, params.time_limit_s)?;
+    let bar = start_run(out, params.time_limit_s)?;
     let progress = |p: &strider_explore::MissionProgress| {
         bar.set_position(p.time_s as u64);
         bar.set_message(format!(
@@ -123,9 +65,9 @@ fn run_on_worker(req: &RunRequest) -> Result<()> {
         ));
     };
     let (mission, log) = match mcap {
-        None => run_mission(&sc, params, seed, progress)?,
+        None => run_mission(sc, params, seed, progress)?,
         Some(file) => {
-            let (m, l, written) = run_mission_recorded(&sc, params, seed, progress, file)?;
+            let (m, l, written) = run_mission_recorded(sc, params, seed, progress, file)?;
             bar.suspend(|| println!("{} messages -> {}", written.total(), file.display()));
             (m, l)
         }
@@ -133,7 +75,7 @@ fn run_on_worker(req: &RunRequest) -> Result<()> {
     bar.finish_and_clear();
     let spin = indicatif::ProgressBar::new_spinner();
     spin.enable_steady_tick(std::time::Duration::from_millis(200));
-    let tours = run_tours(&sc, &mission, seed, &NavigationMode::ALL, |tour, mode| {
+    let tours = run_tours(sc, &mission, seed, &NavigationMode::ALL, |tour, mode| {
         spin.set_message(format!("tour {tour} with {} navigation", mode.name()));
     })?;
     spin.finish_and_clear();
@@ -153,11 +95,11 @@ fn run_on_worker(req: &RunRequest) -> Result<()> {
         })
         .collect();
 
-    write_figures(&mission, &log, &tours, out)?;
+    write_figures(&mission, &tours, out)?;
 
     let (rep_med, rep_max) = median_max(&log.replan_ms);
     let (g2t_med, g2t_max) = median_max(&log.goals_to_tour_ms);
-    let part = |f: fn(&strider_explore::mission::ReplanParts) -> f64| {
+    let part = |f: fn(&strider_explore::tour_explorer::ReplanParts) -> f64| {
         let v: Vec<f64> = log.replan_parts.iter().map(f).collect();
         let (median, max) = median_max(&v);
         json!({"median": median, "max": max})
@@ -170,12 +112,12 @@ fn run_on_worker(req: &RunRequest) -> Result<()> {
         "scenario": sc.name,
         "world_seed": world_seed,
         "seed": seed,
-        "strategy": strategy.name(),
-        "termination": format!("{:?}", log.run.termination),
-        "exploration_time_s": log.run.exploration_time_s,
-        "driven_m": log.run.driven_m,
-        "observed_cells": mission.map().observed_count(),
-        "scans_fused": mission.map().scan_count(),
+        "strategy": configured.name(),
+        "termination": format!("{:?}", mission.record().termination),
+        "exploration_time_s": mission.record().exploration_time_s,
+        "driven_m": mission.record().driven_m,
+        "observed_cells": mission.body().map().observed_count(),
+        "scans_fused": mission.body().map().scan_count(),
         "phase_wall_s": log.phase_wall_s,
         "models": models,
         "tours": tours_json,
@@ -195,23 +137,23 @@ fn run_on_worker(req: &RunRequest) -> Result<()> {
             "spatial": {"median": sp_med, "max": sp_max},
             "learning": {"median": le_med, "max": le_max},
         },
-        "mission_wall_s": log.run.wall_s,
-        "speedup": log.run.exploration_time_s / log.run.wall_s.max(1e-9),
+        "mission_wall_s": mission.record().wall_s,
+        "speedup": mission.record().exploration_time_s / mission.record().wall_s.max(1e-9),
         "wall_time_s": wall_s,
-        "trajectory": log.run.trajectory,
+        "trajectory": mission.record().trajectory,
     });
     let path = write_reports(out, &report, &mission, &tours)?;
     println!(
         "{} ({}): {:?} after {:.0} s simulated, {:.1} m driven, {} replans (median {:.1} ms, max {:.1} ms), {:.0}x real time, {:.1} s wall -> {}",
         sc.name,
-        strategy.name(),
-        log.run.termination,
-        log.run.exploration_time_s,
-        log.run.driven_m,
+        configured.name(),
+        mission.record().termination,
+        mission.record().exploration_time_s,
+        mission.record().driven_m,
         log.replan_ms.len(),
         rep_med,
         rep_max,
-        log.run.exploration_time_s / log.run.wall_s.max(1e-9),
+        mission.record().exploration_time_s / mission.record().wall_s.max(1e-9),
         wall_s,
         path.display()
     );
@@ -240,13 +182,14 @@ fn run_on_worker(req: &RunRequest) -> Result<()> {
 pub(crate) fn write_reports(
     out: &Path,
     report: &serde_json::Value,
-    mission: &Mission,
+    mission: &Mission<TourExplorer>,
     tours: &[(String, Vec<TourResult>)],
 ) -> Result<std::path::PathBuf> {
     let path = out.join("report.json");
     fs::write(&path, serde_json::to_string_pretty(report)?)
         .with_context(|| format!("{}: cannot write", path.display()))?;
     let gait_names: Vec<String> = mission
+        .strategy()
         .params()
         .gaits
         .iter()
@@ -260,21 +203,25 @@ pub(crate) fn write_reports(
 
 /// Per-gait model summaries of the report: classes with dominant colour, cost and variance,
 /// sample counts, H^GT.
-pub(crate) fn models_json(mission: &Mission, log: &MissionLog) -> Vec<serde_json::Value> {
+pub(crate) fn models_json(
+    mission: &Mission<TourExplorer>,
+    log: &MissionLog,
+) -> Vec<serde_json::Value> {
     mission
+        .strategy()
         .models()
         .iter()
         .enumerate()
         .map(|(g, m)| {
             json!({
-                "gait": mission.params().gaits[g].name,
+                "gait": mission.strategy().params().gaits[g].name,
                 "regressor": m.has_regressor(),
                 "learning_set": m.learning_set_len(),
                 "measured_cells": m.measured_cells().len(),
                 "classes": m.igng().len(),
                 "cost_samples": log.cost_samples[g],
-                "h_gt": mission.model_updates()[g].h_gt,
-                "class_table": mission.model_updates()[g].classes.iter().map(|c| json!({
+                "h_gt": mission.strategy().model_updates()[g].h_gt,
+                "class_table": mission.strategy().model_updates()[g].classes.iter().map(|c| json!({
                     "id": c.id.0,
                     // Of the descriptor the class is predicted at (its cells' median).
                     "dominant_colour_bin": c.median.iter().enumerate()
@@ -295,12 +242,11 @@ pub(crate) fn models_json(mission: &Mission, log: &MissionLog) -> Vec<serde_json
 /// selected gait (Eq. 13), per gait the learned cell costs, the classes (dilated, Alg. 10) and
 /// the planning cost, the exploration path, and the tour paths of each navigation mode.
 pub(crate) fn write_figures(
-    mission: &Mission,
-    log: &MissionLog,
+    mission: &Mission<TourExplorer>,
     tours: &[(String, Vec<TourResult>)],
     out: &Path,
 ) -> Result<()> {
-    let map = mission.map();
+    let map = mission.body().map();
     let Some(rect) = map.known_bounds() else {
         return Ok(());
     };
@@ -309,7 +255,7 @@ pub(crate) fn write_figures(
     let colors = map.color_raster(rect);
     rgb_canvas(rect, d, scale, &colors).save(&out.join("color.png"))?;
     // Fig. 5E: the dominant colour prototype of each cell's descriptor ta(ν).
-    let desc = mission.descriptors();
+    let desc = mission.strategy().descriptors();
     let dominant: Vec<_> = rect
         .cells()
         .map(|c| {
@@ -322,13 +268,13 @@ pub(crate) fn write_figures(
         })
         .collect();
     rgb_canvas(rect, d, scale, &dominant).save(&out.join("dominant_colour.png"))?;
-    let c_max = mission.params().cost_model.c_max as f32;
+    let c_max = mission.strategy().params().cost_model.c_max as f32;
     if let Some(view) = PlanningView::build(
         map,
-        mission.models(),
+        mission.strategy().models(),
         CostMode::Learned,
-        mission.params().c_loss,
-        mission.params().bounds.as_ref(),
+        mission.strategy().params().c_loss,
+        mission.strategy().params().bounds.as_ref(),
     ) {
         // The view covers the known area grown by the footprint; crop it to the known area.
         let vr = view.rect();
@@ -349,8 +295,8 @@ pub(crate) fn write_figures(
         });
         g.save(&out.join("gait.png"))?;
     }
-    for (gi, m) in mission.models().iter().enumerate() {
-        let name = &mission.params().gaits[gi].name;
+    for (gi, m) in mission.strategy().models().iter().enumerate() {
+        let name = &mission.strategy().params().gaits[gi].name;
         let costs: Vec<f32> = rect
             .cells()
             .map(|c| m.cell_cost(c).map_or(f32::NAN, |k| k.cost as f32))
@@ -402,8 +348,8 @@ pub(crate) fn write_figures(
             .save(&out.join(format!("variance_{name}.png")))?;
     }
     let mut path = rgb_canvas(rect, d, scale, &colors);
-    let pts: Vec<Point2> = log
-        .run
+    let pts: Vec<Point2> = mission
+        .record()
         .trajectory
         .iter()
         .map(|s| Point2::new(s.x, s.y))

@@ -7,57 +7,52 @@ use std::fs;
 use std::path::Path;
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use serde_json::json;
+use strider_explore::Mission;
 use strider_explore::escape::force_predictor::describe;
 use strider_explore::escape::view::ObstacleState;
 use strider_explore::escape::{EscapeLog, EscapeMission, EscapeMode};
 
-use crate::cmd_scenario::load;
 use crate::render::{compose, label, line_chart, rgb_canvas};
-use strider_cli::escape_trial::{SECTION_EXPLORED_FRACTION, escape_params, run_escape};
+use crate::run_support::{RunRequest, checked_time_limit, start_run};
+use strider_cli::escape_trial::{SECTION_EXPLORED_FRACTION, run_escape};
+use strider_explore::registry::EscapeTable;
+use strider_scenario::Scenario;
 
 /// Runs `strider run` for the `escape` and `rigid` strategies.
-pub fn run(
-    arg: &str,
-    world_seed: u64,
-    strategy: &str,
-    seed: u64,
-    time_limit: Option<f64>,
-    out: &Path,
-    mcap: Option<&Path>,
-) -> Result<()> {
+pub fn run(sc: &Scenario, req: &RunRequest, mode: EscapeMode, table: &EscapeTable) -> Result<()> {
+    let RunRequest {
+        world_seed,
+        seed,
+        time_limit,
+        out,
+        mcap,
+        ..
+    } = *req;
     let wall = Instant::now();
-    let Some(mode) = EscapeMode::parse(strategy) else {
-        bail!("unknown strategy {strategy:?}; expected escape or rigid");
-    };
-    if mcap.is_some() {
-        bail!("--mcap is not supported with --strategy {strategy}");
-    }
-    let sc = load(arg, world_seed)?;
-    if !sc.robot.bumper && mode == EscapeMode::Escape {
-        bail!(
-            "scenario {}: robot profile {} has no bumper (the escape strategy needs one)",
-            sc.name,
-            sc.robot.name
-        );
-    }
-    let mut params = escape_params(&sc, mode)?;
+    let mut params = table.escape_params(&strider_cli::trial::robot_spec(sc), mode)?;
     if let Some(t) = time_limit {
-        params.time_limit_s = crate::cmd_run::checked_time_limit(t)?;
+        params.time_limit_s = checked_time_limit(t)?;
     }
-    let bar = crate::cmd_run::start_run(out, params.time_limit_s)?;
-    let trial = run_escape(&sc, params, seed, |m: &EscapeMission| {
-        let l = m.log();
+    let bar = start_run(out, params.time_limit_s)?;
+    let trial = run_escape(sc, params, seed, mcap, |m: &Mission<EscapeMission>| {
+        let l = m.strategy().log();
         bar.set_position(l.timeline.last().map_or(0.0, |s| s.t) as u64);
         bar.set_message(format!(
             "{} cells mapped, {} haptic cells, {} contacts",
-            m.map().observed_count(),
-            m.haptic().len(),
+            m.body().map().observed_count(),
+            m.strategy().haptic().len(),
             l.contacts.len()
         ));
     })?;
+    let run = trial.mission.record();
+    let esc = trial.mission.strategy();
+    let map = trial.mission.body().map();
     bar.finish_and_clear();
+    if let (Some(w), Some(file)) = (&trial.written, mcap) {
+        println!("{} messages -> {}", w.total(), file.display());
+    }
     let log = &trial.log;
     write_figures(&trial.mission, log, out)?;
     let wall_s = wall.elapsed().as_secs_f64();
@@ -81,10 +76,10 @@ pub fn run(
         "world_seed": world_seed,
         "seed": seed,
         "strategy": mode.name(),
-        "termination": format!("{:?}", log.run.termination),
-        "exploration_time_s": log.run.exploration_time_s,
-        "driven_m": log.run.driven_m,
-        "observed_cells": trial.mission.map().observed_count(),
+        "termination": format!("{:?}", run.termination),
+        "exploration_time_s": run.exploration_time_s,
+        "driven_m": run.driven_m,
+        "observed_cells": map.observed_count(),
         "sections_explored": trial.sections_explored(),
         "section_explored_fraction": SECTION_EXPLORED_FRACTION,
         "sections": trial.sections,
@@ -95,18 +90,18 @@ pub fn run(
         "pushes": log.pushes,
         "samplings": log.samplings,
         "relearns": log.relearns,
-        "haptic_cells": trial.mission.haptic().len(),
-        "haptic": trial.mission.haptic().cells().iter().map(|(c, h)| {
-            let p = c.center(trial.mission.map().cell_size());
+        "haptic_cells": esc.haptic().len(),
+        "haptic": esc.haptic().cells().iter().map(|(c, h)| {
+            let p = c.center(map.cell_size());
             json!({
                 "x": p.x, "y": p.y, "force": h.force, "variance": h.variance, "count": h.count,
-                "descriptor": describe(trial.mission.map(), *c, &trial.mission.params().predictor),
+                "descriptor": describe(map, *c, &esc.params().predictor),
             })
         }).collect::<Vec<_>>(),
-        "predictor_training_set": trial.mission.predictor().len(),
-        "mission_wall_s": log.run.wall_s,
+        "predictor_training_set": esc.predictor().len(),
+        "mission_wall_s": run.wall_s,
         "wall_time_s": wall_s,
-        "trajectory": log.run.trajectory,
+        "trajectory": run.trajectory,
     });
     let path = out.join("report.json");
     fs::write(&path, serde_json::to_string_pretty(&report)?)
@@ -115,9 +110,9 @@ pub fn run(
         "{} ({}): {:?} after {:.0} s simulated, {:.1} m driven, {}/{} sections explored, {} contacts ({} corrected), {:.1} s wall -> {}",
         sc.name,
         mode.name(),
-        log.run.termination,
-        log.run.exploration_time_s,
-        log.run.driven_m,
+        run.termination,
+        run.exploration_time_s,
+        run.driven_m,
         trial.sections_explored(),
         trial.sections.len(),
         log.contacts.len(),
@@ -131,7 +126,8 @@ pub fn run(
 /// `explored_area.png` (m² over time), `cell_states.png` (C4 Fig. 11: certain/uncertain ×
 /// traversable/untraversable apparent-obstacle cells over time) and `map.png` (the map's colours
 /// beside the Eq. 4 classification with the trajectory).
-fn write_figures(mission: &EscapeMission, log: &EscapeLog, out: &Path) -> Result<()> {
+fn write_figures(m: &Mission<EscapeMission>, log: &EscapeLog, out: &Path) -> Result<()> {
+    let (map, run, mission) = (m.body().map(), m.record(), m.strategy());
     let tl = &log.timeline;
     let area: Vec<f64> = tl.iter().map(|s| s.explored_m2).collect();
     let x_label = format!(
@@ -169,7 +165,6 @@ fn write_figures(mission: &EscapeMission, log: &EscapeLog, out: &Path) -> Result
     label(&mut chart, 560.0, 400.0, "CERTAIN UNTRAV", CERTAIN_UNTRAV);
     chart.save(&out.join("cell_states.png"))?;
     if let Some(view) = mission.view() {
-        let map = mission.map();
         let scale = crate::render::Canvas::auto_scale(view.rect, 700);
         let colors = map.color_raster(view.rect);
         let mut a = rgb_canvas(view.rect, view.cell_size, scale, &colors);
@@ -199,8 +194,7 @@ fn write_figures(mission: &EscapeMission, log: &EscapeLog, out: &Path) -> Result
                 None => [120, 60, 60],
             })
         });
-        let pts: Vec<strider_core::Point2> = log
-            .run
+        let pts: Vec<strider_core::Point2> = run
             .trajectory
             .iter()
             .map(|s| strider_core::Point2::new(s.x, s.y))

@@ -17,22 +17,18 @@
 use std::fs;
 use std::path::Path;
 use std::time::Instant;
-use strider_cli::trial::num;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use serde_json::json;
-use strider_core::GaitId;
-use strider_explore::mission::Termination;
+use strider_cli::trial::drive;
 use strider_explore::rbcm_greedy::{RbcmGreedy, RbcmGreedyLog, RbcmGreedyParams};
-use strider_learn::gp::{GpParams, HyperBounds, Kernel, KernelKind};
-use strider_learn::rbcm::{RbcmParams, RbcmVariant};
-use strider_map::rect::WorldRect;
+use strider_explore::registry::RbcmTable;
+use strider_explore::{Mission, Termination};
+use strider_log::writer::WriteSummary;
 use strider_scenario::Scenario;
-use strider_sim::Simulator;
 
-use crate::cmd_run::median_max;
-use crate::cmd_scenario::load;
 use crate::render::{Canvas, line_chart, palette, scalar_canvas};
+use crate::run_support::{RunRequest, checked_time_limit, median_max, start_run};
 
 /// Terrains `000` §V-B expects to be learned as easy and as hard.
 const EASY: [&str; 3] = ["flat", "grass", "carpet"];
@@ -42,90 +38,20 @@ const HARD: [&str; 2] = ["cubes", "stairs"];
 /// (the paper's 23.2 s was at 910).
 const LARGE_MAP_CELLS: usize = 900;
 
-/// The explorer's parameters from a scenario, walking gait `gait` (default: `adaptive` when the
-/// robot has it, else its first gait).
-pub fn rbcm_params(sc: &Scenario, gait: Option<&str>) -> Result<RbcmGreedyParams> {
-    let gaits = &sc.robot.gaits;
-    let gi = match gait {
-        Some(name) => gaits.iter().position(|g| g.name == name).with_context(|| {
-            let names: Vec<&str> = gaits.iter().map(|g| g.name.as_str()).collect();
-            format!(
-                "robot {} has no gait {name:?}; it has {}",
-                sc.robot.name,
-                names.join(", ")
-            )
-        })?,
-        None => gaits.iter().position(|g| g.name == "adaptive").unwrap_or(0),
-    };
-    let Some(g) = gaits.get(gi) else {
-        bail!("scenario {}: robot {} has no gait", sc.name, sc.robot.name);
-    };
-    let t = &sc.strategy;
-    let lambda = t
-        .get(&format!("lambda_score_{}", g.name))
-        .and_then(|v| v.as_float())
-        .unwrap_or_else(|| num(t, "lambda_score", 0.001));
-    let m_max = num(t, "m_max", 50.0).max(1.0) as usize;
-    let m_min = num(t, "m_min", 25.0).max(0.0) as usize;
-    let l0 = num(t, "gp_lengthscale", 0.5);
-    let s0 = num(t, "gp_signal_variance", 4e-4);
-    let n0 = num(t, "gp_noise_variance", 2.5e-5);
-    let mut map = sc.map.clone();
-    map.r_spatial = num(t, "r_spatial", map.r_spatial);
-    let b = &sc.bounds;
-    Ok(RbcmGreedyParams {
-        map,
-        gait: GaitId(gi as u8),
-        gait_speed: g.max_speed,
-        mcost_cell: num(t, "mcost_cell", 0.10),
-        delta_desc: num(t, "delta_desc", 0.2),
-        delta_score: num(t, "delta_score", 0.5),
-        lambda_score: lambda,
-        rbcm: RbcmParams {
-            m_max,
-            m_min,
-            variant: RbcmVariant::Robust,
-        },
-        gp: GpParams {
-            kernel: Kernel {
-                kind: KernelKind::Exponential,
-                lengthscales: vec![l0],
-                signal_variance: s0,
-            },
-            noise_variance: n0,
-            prior_mean: 0.0,
-        },
-        fit: Some(HyperBounds {
-            lengthscale: (0.1 * l0, 10.0 * l0),
-            signal_variance: (0.01 * s0, 25.0 * s0),
-            noise_variance: (0.01 * n0, s0),
-            max_iterations: 200,
-        }),
-        window_s: num(t, "cost_window_s", 10.0),
-        proprio_rate_hz: sc.sim.proprio_rate_hz,
-        pose_rate_hz: sc.sim.pose_rate_hz,
-        sample_period_s: num(t, "sample_period_s", 60.0 / m_max as f64),
-        carrot_m: num(t, "carrot_m", 0.2),
-        control_hz: 10.0,
-        plan_hz: num(t, "plan_hz", 1.0),
-        bounds: Some(WorldRect::new(b.min, b.max)),
-        sensor_hfov_deg: strider_cli::trial::sensor_hfovs(&sc.robot),
-        time_limit_s: sc.time_limit_s,
-    })
-}
-
-/// One `rbcm-greedy` exploration on the scenario's world (simulator seed `seed`).
+/// One `rbcm-greedy` exploration on the scenario's world (simulator seed `seed`), recorded to
+/// `mcap` if given; the final Mcost is built for the report.
 pub fn explore(
     sc: &Scenario,
     params: RbcmGreedyParams,
     seed: u64,
-    progress: impl FnMut(&strider_explore::MissionProgress),
-) -> Result<RbcmGreedy> {
-    let mut sim = Simulator::new(sc, seed)?;
-    let mut ex = RbcmGreedy::new(params)?;
-    ex.run_observed(&mut sim, progress)?;
-    ex.refresh_cost_map();
-    Ok(ex)
+    mcap: Option<&Path>,
+    mut progress: impl FnMut(&strider_explore::MissionProgress),
+) -> Result<(Mission<RbcmGreedy>, Option<WriteSummary>)> {
+    let mut mission = RbcmGreedy::mission(params)?;
+    let written = drive(sc, seed, &mut mission, mcap, |_, p| progress(p))?;
+    let (body, ex) = mission.parts_mut();
+    ex.refresh_cost_map(body);
+    Ok((mission, written))
 }
 
 /// Per-terrain predictions of the final Mcost against the terrain table (module docs), and
@@ -185,33 +111,38 @@ pub fn terrain_check(sc: &Scenario, ex: &RbcmGreedy) -> (Vec<serde_json::Value>,
 }
 
 /// Runs `strider run --strategy rbcm-greedy`.
-pub fn run(
-    arg: &str,
-    world_seed: u64,
-    seed: u64,
-    time_limit: Option<f64>,
-    out: &Path,
-    gait: Option<&str>,
-) -> Result<()> {
+pub fn run(sc: &Scenario, req: &RunRequest, table: &RbcmTable) -> Result<()> {
+    let RunRequest {
+        world_seed,
+        seed,
+        time_limit,
+        out,
+        mcap,
+        ..
+    } = *req;
     let wall = Instant::now();
-    let sc = load(arg, world_seed)?;
+    let mut warnings = Vec::new();
     if !sc
         .world
         .terrains
         .iter()
         .any(|t| t.gaits.values().any(|r| r.roll_variance > 0.0))
     {
-        bail!(
-            "scenario {}: no terrain makes the robot roll, so the rbcm-greedy explorer (roll-variance cost) has nothing to learn; try --scenario lab-track",
+        // The world, not the strategy, is at fault: run, and say so.
+        warnings.push(format!(
+            "scenario {}: no terrain makes the robot roll, so the roll-variance cost is the same everywhere",
             sc.name
-        );
+        ));
     }
-    let mut params = rbcm_params(&sc, gait)?;
+    let mut params = table.explorer_params(&strider_cli::trial::robot_spec(sc))?;
     if let Some(t) = time_limit {
-        params.time_limit_s = crate::cmd_run::checked_time_limit(t)?;
+        params.time_limit_s = checked_time_limit(t)?;
     }
-    let bar = crate::cmd_run::start_run(out, params.time_limit_s)?;
-    let ex = explore(&sc, params, seed, |p| {
+    let bar = start_run(out, params.time_limit_s)?;
+    for w in &warnings {
+        bar.suspend(|| eprintln!("warning: {w}"));
+    }
+    let (mission, written) = explore(sc, params, seed, mcap, |p| {
         bar.set_position(p.time_s as u64);
         bar.set_message(format!(
             "{} cells mapped, {} learning pairs",
@@ -219,10 +150,14 @@ pub fn run(
         ));
     })?;
     bar.finish_and_clear();
+    if let (Some(w), Some(file)) = (&written, mcap) {
+        println!("{} messages -> {}", w.total(), file.display());
+    }
+    let ex = mission.strategy();
     let log = ex.log();
-    let (terrains, learned) = terrain_check(&sc, &ex);
-    let report = report_json(&sc, world_seed, seed, &ex, &terrains, learned, wall);
-    write_figures(&ex, log, out)?;
+    let (terrains, learned) = terrain_check(sc, ex);
+    let report = report_json(sc, world_seed, seed, &mission, &terrains, learned, wall);
+    write_figures(&mission, log, out)?;
     let path = out.join("report.json");
     fs::write(&path, serde_json::to_string_pretty(&report)?)
         .with_context(|| format!("{}: cannot write", path.display()))?;
@@ -232,10 +167,10 @@ pub fn run(
         sc.name,
         report["gait"].as_str().unwrap_or("?"),
         ex.params().lambda_score,
-        log.run.termination,
-        log.run.exploration_time_s,
+        mission.record().termination,
+        mission.record().exploration_time_s,
         wall.elapsed().as_secs_f64(),
-        log.run.driven_m,
+        mission.record().driven_m,
         ex.rbcm().len(),
         ex.rbcm().experts().len(),
         if learned { "yes" } else { "no" },
@@ -280,11 +215,12 @@ fn report_json(
     sc: &Scenario,
     world_seed: u64,
     seed: u64,
-    ex: &RbcmGreedy,
+    mission: &Mission<RbcmGreedy>,
     terrains: &[serde_json::Value],
     learned: bool,
     wall: Instant,
 ) -> serde_json::Value {
+    let ex = mission.strategy();
     let log = ex.log();
     let all: Vec<f64> = log.plans.iter().map(|p| p.total_ms).collect();
     let large: Vec<f64> = log
@@ -318,11 +254,11 @@ fn report_json(
         "strategy": "rbcm-greedy",
         "gait": sc.robot.gaits[ex.params().gait.0 as usize].name,
         "lambda_score": ex.params().lambda_score,
-        "termination": format!("{:?}", log.run.termination),
-        "terminated": log.run.termination == Termination::GoalsCleared,
-        "exploration_time_s": log.run.exploration_time_s,
-        "driven_m": log.run.driven_m,
-        "observed_cells": ex.map().observed_count(),
+        "termination": format!("{:?}", mission.record().termination),
+        "terminated": mission.record().termination == Termination::GoalsCleared,
+        "exploration_time_s": mission.record().exploration_time_s,
+        "driven_m": mission.record().driven_m,
+        "observed_cells": mission.body().map().observed_count(),
         "terrains_learned": learned,
         "terrains": terrains,
         "learning_pairs": ex.rbcm().len(),
@@ -343,22 +279,23 @@ fn report_json(
         },
         "plans": log.plans,
         "samples": log.samples,
-        "trajectory": log.run.trajectory,
-        "mission_wall_s": log.run.wall_s,
+        "trajectory": mission.record().trajectory,
+        "mission_wall_s": mission.record().wall_s,
         "wall_s": wall.elapsed().as_secs_f64(),
     })
 }
 
 /// `mcost_mean.png`, `mcost_std.png` (final Mcost with the trajectory), `rbcm_planning.png`
 /// (planning time and traversable cells per cycle).
-fn write_figures(ex: &RbcmGreedy, log: &RbcmGreedyLog, out: &Path) -> Result<()> {
+fn write_figures(mission: &Mission<RbcmGreedy>, log: &RbcmGreedyLog, out: &Path) -> Result<()> {
+    let ex = mission.strategy();
     let cm = ex.cost_map();
     if cm.rect.is_empty() {
         return Ok(());
     }
     let scale = Canvas::auto_scale(cm.rect, 800);
-    let traj: Vec<_> = log
-        .run
+    let traj: Vec<_> = mission
+        .record()
         .trajectory
         .iter()
         .map(|s| strider_core::Point2::new(s.x, s.y))

@@ -108,7 +108,10 @@ pub fn tour_params(sc: &Scenario, n_tours: Option<usize>) -> Result<EnergyTourPa
         sc.robot.hotel_load_w,
         sc.robot.mass_kg,
     );
-    let from_table = sc.strategy.get("n_tours").and_then(|v| v.as_integer());
+    let table = strider_cli::trial::section(sc, "tours")?
+        .cloned()
+        .unwrap_or_default();
+    let from_table = table.get("n_tours").and_then(|v| v.as_integer());
     p.n_tours = match (n_tours, from_table) {
         (Some(n), _) => n,
         (None, Some(n)) if n > 0 => n as usize,
@@ -122,7 +125,7 @@ pub fn tour_params(sc: &Scenario, n_tours: Option<usize>) -> Result<EnergyTourPa
     p.power_rate_hz = sc.sim.proprio_rate_hz;
     // Optional overrides from the scenario's [strategy] table.
     let num = |key: &str| {
-        let v = sc.strategy.get(key);
+        let v = table.get(key);
         v.and_then(|v| v.as_float())
             .or_else(|| v.and_then(|v| v.as_integer()).map(|i| i as f64))
     };

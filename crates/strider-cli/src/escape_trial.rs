@@ -7,65 +7,30 @@
 //! counts as explored when at least [`SECTION_EXPLORED_FRACTION`] of its cells are observed in the
 //! mission's map.
 
-use crate::trial::num;
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use strider_core::Cell;
-use strider_explore::escape::force_predictor::{DescriptorKind, PredictorParams};
+use strider_explore::Mission;
 use strider_explore::escape::{EscapeLog, EscapeMission, EscapeMode, EscapeParams};
+use strider_explore::registry::Configured;
 use strider_map::ElevationMap;
-use strider_map::rect::WorldRect;
 use strider_scenario::Scenario;
 use strider_scenario::ground_truth::flood_fill;
-use strider_sim::Simulator;
 
 /// Fraction of a section's cells that must be mapped for it to count as explored.
 pub const SECTION_EXPLORED_FRACTION: f64 = 0.5;
 
-/// Escape-mission parameters from a scenario: the robot profile, the map and the `[strategy]`
-/// table (C4 Table 3 names: `f_trav`, `sigma_sensor_sq`, `sigma_0_sq`, `gp_noise_variance`,
-/// `gp_signal_variance`, `gp_lengthscale`, `learn_hz`, `i_thr_predict`, `r_hist`, and
-/// `descriptor` = `lab` or `hist8`).
-pub fn escape_params(sc: &Scenario, mode: EscapeMode) -> Result<EscapeParams> {
-    let Some(gait) = sc.robot.gaits.first() else {
-        bail!(
-            "scenario {}: robot profile {} has no gait",
-            sc.name,
-            sc.robot.name
-        );
+/// Escape-mission parameters from a scenario: the robot profile, the map and the strategy's
+/// `[strategy.escape]` (or `[strategy.rigid]`) section, with `sets` overriding it.
+pub fn escape_params(
+    sc: &Scenario,
+    mode: EscapeMode,
+    sets: &[(String, String)],
+) -> Result<EscapeParams> {
+    let (_, configured) = crate::trial::configure(sc, mode.name(), sets)?;
+    let Configured::Escape(mode, table) = configured else {
+        bail!("{} is not a C4 strategy", mode.name());
     };
-    let hfov = crate::trial::sensor_hfovs(&sc.robot);
-    let b = &sc.bounds;
-    let mut p = EscapeParams::new(
-        mode,
-        sc.map.clone(),
-        gait.max_speed,
-        hfov,
-        Some(WorldRect::new(b.min, b.max)),
-    );
-    p.time_limit_s = sc.time_limit_s;
-    let t = &sc.strategy;
-    let descriptor = match t.get("descriptor").and_then(|v| v.as_str()) {
-        None => DescriptorKind::LabAb,
-        Some(s) => DescriptorKind::parse(s)
-            .with_context(|| format!("strategy.descriptor {s:?}: expected lab or hist8"))?,
-    };
-    let base = match descriptor {
-        DescriptorKind::LabAb => PredictorParams::lab(),
-        DescriptorKind::Histogram8 => PredictorParams::histogram(),
-    };
-    p.predictor = PredictorParams {
-        noise_variance: num(t, "gp_noise_variance", base.noise_variance),
-        signal_variance: num(t, "gp_signal_variance", base.signal_variance),
-        lengthscale: num(t, "gp_lengthscale", base.lengthscale),
-        learn_hz: num(t, "learn_hz", base.learn_hz),
-        entropy_threshold: num(t, "i_thr_predict", base.entropy_threshold),
-        r_hist: num(t, "r_hist", base.r_hist),
-        ..base
-    };
-    p.haptic.f_trav = num(t, "f_trav", p.haptic.f_trav);
-    p.haptic.sigma_sensor2 = num(t, "sigma_sensor_sq", p.haptic.sigma_sensor2);
-    p.haptic.sigma0_2 = num(t, "sigma_0_sq", p.haptic.sigma0_2);
-    Ok(p)
+    Ok(table.escape_params(&crate::trial::robot_spec(sc), mode)?)
 }
 
 /// One evaluated arena section.
@@ -115,11 +80,13 @@ pub fn section_fractions(map: &ElevationMap, sections: &[Vec<Cell>]) -> Vec<f64>
 /// A finished escape trial.
 pub struct EscapeTrial {
     /// The mission (map, haptic model, predictor, final view).
-    pub mission: EscapeMission,
+    pub mission: Mission<EscapeMission>,
     /// Its log.
     pub log: EscapeLog,
     /// The sections.
     pub sections: Vec<SectionResult>,
+    /// What was recorded, if the trial was.
+    pub written: Option<strider_log::writer::WriteSummary>,
 }
 
 impl EscapeTrial {
@@ -135,30 +102,32 @@ pub fn run_escape(
     sc: &Scenario,
     params: EscapeParams,
     seed: u64,
-    mut progress: impl FnMut(&EscapeMission),
+    mcap: Option<&std::path::Path>,
+    mut progress: impl FnMut(&Mission<EscapeMission>),
 ) -> Result<EscapeTrial> {
-    let mut sim = Simulator::new(sc, seed)?;
     let secs = sections(sc);
     let mut at: Vec<Option<f64>> = vec![None; secs.len()];
-    let mut mission = EscapeMission::new(params)?;
+    let mut mission = EscapeMission::mission(params)?;
     let t0 = 0.0;
     let mut tick = 0u64;
-    let log = mission
-        .run(&mut sim, |m| {
-            // Section times every 5 simulated seconds: the check walks every section cell.
-            tick += 1;
-            if tick.is_multiple_of(5) {
-                let t = m.log().run.trajectory.last().map_or(t0, |s| s.t);
-                for (k, f) in section_fractions(m.map(), &secs).into_iter().enumerate() {
-                    if at[k].is_none() && f >= SECTION_EXPLORED_FRACTION {
-                        at[k] = Some(t);
-                    }
+    let written = crate::trial::drive(sc, seed, &mut mission, mcap, |m, _| {
+        // Section times every 5 simulated seconds: the check walks every section cell.
+        tick += 1;
+        if tick.is_multiple_of(5) {
+            let t = m.record().trajectory.last().map_or(t0, |s| s.t);
+            for (k, f) in section_fractions(m.body().map(), &secs)
+                .into_iter()
+                .enumerate()
+            {
+                if at[k].is_none() && f >= SECTION_EXPLORED_FRACTION {
+                    at[k] = Some(t);
                 }
             }
-            progress(m);
-        })?
-        .clone();
-    let fractions = section_fractions(mission.map(), &secs);
+        }
+        progress(m);
+    })?;
+    let log = mission.strategy().log().clone();
+    let fractions = section_fractions(mission.body().map(), &secs);
     let sections = secs
         .iter()
         .zip(fractions)
@@ -169,7 +138,7 @@ pub fn run_escape(
                 cells: s.len(),
                 observed_fraction: f,
                 explored,
-                explored_at_s: at[k].or(explored.then_some(log.run.exploration_time_s)),
+                explored_at_s: at[k].or(explored.then_some(mission.record().exploration_time_s)),
             }
         })
         .collect();
@@ -177,5 +146,6 @@ pub fn run_escape(
         mission,
         log,
         sections,
+        written,
     })
 }

@@ -6,5 +6,6 @@
 //! explore) do not depend on this crate or on the simulator.
 
 pub mod c4_vegetation;
+pub mod compare;
 pub mod escape_trial;
 pub mod trial;

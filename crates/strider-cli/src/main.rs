@@ -5,6 +5,7 @@
 //! writes figures and JSON. Errors end in one line on stderr and exit code 1.
 
 mod cmd_bench;
+mod cmd_compare;
 mod cmd_gp;
 mod cmd_gtsp;
 mod cmd_learn;
@@ -15,8 +16,10 @@ mod cmd_run;
 mod cmd_run_escape;
 mod cmd_run_rbcm;
 mod cmd_scenario;
+mod cmd_strategies;
 mod cmd_tours;
 mod render;
+mod run_support;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -37,20 +40,20 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Run an exploration mission (`001` Alg. 1): the robot explores a scenario in the
-    /// simulator, learns per-gait traversal costs as it goes, and a report is written.
+    /// Run an exploration mission: the robot explores a scenario in the simulator with the
+    /// strategy chosen, learns traversal costs as it goes, and a report is written.
     Run {
         #[command(flatten)]
         scenario: ScenarioArg,
-        /// Exploration strategy: gtsp (the paper's), greedy (cheapest goal next),
-        /// spatial-only (spatial goals, reactive gait), rbcm-greedy (`000` Alg. 1: RBCM cost
-        /// map, frontier and median-σ goals; for a robot that feels roll, e.g. lab-track),
-        /// escape (thesis C4 Alg. 2: haptic learning of pushable obstacles) or rigid (C4
-        /// baseline: apparent obstacles are rigid).
+        /// Exploration strategy (`strider strategies` lists them with their papers and
+        /// parameters): gtsp, greedy, spatial-only, rbcm-greedy, escape, rigid.
         #[arg(long, default_value = "gtsp")]
         strategy: String,
-        /// Gait walked throughout by rbcm-greedy (default: adaptive when the robot has it);
-        /// λ_score is the scenario's `lambda_score_<gait>`.
+        /// Set a strategy parameter, overriding the scenario's `[strategy.<name>]` section
+        /// (repeatable), e.g. `--set c_loss=7.5`.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Shorthand for `--set gait=NAME` (the gait rbcm-greedy walks).
         #[arg(long)]
         gait: Option<String>,
         /// Seed of the mission and the simulator's noise.
@@ -68,6 +71,9 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         mcap: Option<PathBuf>,
     },
+    /// List every exploration strategy with its paper, its parameters, their defaults and
+    /// units.
+    Strategies,
     /// Map and learn from a recorded ROS 2 log (MCAP: sensor_msgs/PointCloud2 with x, y, z and
     /// rgb, nav_msgs/Odometry or tf2_msgs/TFMessage poses, the gait) with the mission's own
     /// mapping and learning code; writes the report of `strider run` without the tours.
@@ -153,6 +159,41 @@ enum BenchCommand {
         mcap_dir: Option<PathBuf>,
         /// Output directory (created if missing).
         #[arg(long, short = 'o', default_value = "out/table5")]
+        out: PathBuf,
+    },
+    /// Compare strategies from different papers on the same worlds: exploration time, observed
+    /// cells, the learned cost's error against the terrain table, and the benchmark-tour time
+    /// with learned navigation, with Mann-Whitney U between each pair; writes DIR/compare.json
+    /// and DIR/compare.md.
+    Compare {
+        /// Scenarios, comma-separated (built-in names or files).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "courtyard-small,lab-track"
+        )]
+        scenarios: Vec<String>,
+        /// Strategies, comma-separated (`strider strategies` lists them).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "gtsp,greedy,spatial-only,rbcm-greedy"
+        )]
+        strategies: Vec<String>,
+        /// Trials per scenario and strategy (mission seeds 1..=N).
+        #[arg(long, default_value_t = 5)]
+        trials: usize,
+        /// Random worlds the trials cycle through (world seeds 1..=K).
+        #[arg(long, default_value_t = 5)]
+        world_seeds: u64,
+        /// Trials run in parallel (default: the number of CPUs).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Override the scenarios' mission time limit, simulated seconds.
+        #[arg(long)]
+        time_limit: Option<f64>,
+        /// Output directory (created if missing).
+        #[arg(long, short = 'o', default_value = "out/compare")]
         out: PathBuf,
     },
 }
@@ -304,6 +345,21 @@ enum MapCommand {
     },
 }
 
+/// `KEY=VALUE` pairs of `--set`, then `--gait` as `gait=NAME`.
+fn parse_sets(sets: &[String], gait: Option<&str>) -> anyhow::Result<Vec<(String, String)>> {
+    let mut out = Vec::with_capacity(sets.len() + 1);
+    for s in sets {
+        let Some((k, v)) = s.split_once('=') else {
+            anyhow::bail!("--set {s:?}: expected KEY=VALUE, e.g. --set c_loss=7.5");
+        };
+        out.push((k.trim().to_string(), v.trim().to_string()));
+    }
+    if let Some(g) = gait {
+        out.push(("gait".to_string(), g.to_string()));
+    }
+    Ok(out)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -315,16 +371,20 @@ fn main() -> ExitCode {
             out,
             mcap,
             gait,
-        } => cmd_run::run(&cmd_run::RunRequest {
-            scenario: &scenario.scenario,
-            world_seed: scenario.world_seed,
-            strategy: &strategy,
-            seed,
-            time_limit,
-            out: &out,
-            mcap: mcap.as_deref(),
-            gait: gait.as_deref(),
+            sets,
+        } => parse_sets(&sets, gait.as_deref()).and_then(|sets| {
+            cmd_run::run(&run_support::RunRequest {
+                scenario: &scenario.scenario,
+                world_seed: scenario.world_seed,
+                strategy: &strategy,
+                sets: &sets,
+                seed,
+                time_limit,
+                out: &out,
+                mcap: mcap.as_deref(),
+            })
         }),
+        Command::Strategies => cmd_strategies::list(),
         Command::Replay { log, config, out } => cmd_replay::run(&log, &config, &out),
         Command::Tours(args) => cmd_tours::run(&args),
         Command::Navigate(args) => cmd_navigate::run(&args),
@@ -348,6 +408,26 @@ fn main() -> ExitCode {
                 time_limit,
                 mcap_dir,
             },
+            &out,
+        ),
+        Command::Bench(BenchCommand::Compare {
+            scenarios,
+            strategies,
+            trials,
+            world_seeds,
+            jobs,
+            time_limit,
+            out,
+        }) => cmd_compare::compare(
+            &strider_cli::compare::CompareOptions {
+                scenarios,
+                trials,
+                world_seeds,
+                jobs: jobs
+                    .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+                time_limit,
+            },
+            &strategies,
             &out,
         ),
         Command::Scenario(ScenarioCommand::List) => cmd_scenario::list(),

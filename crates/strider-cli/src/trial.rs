@@ -6,30 +6,22 @@
 //! mission: it converts the profile and the `001` Tbl. 3 values into [`MissionParams`]. The
 //! mission itself never sees the scenario's world.
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use std::cell::RefCell;
+use std::path::Path;
 use std::rc::Rc;
 use strider_core::Pose2;
 use strider_explore::evaluate::{NavigationMode, TourResult, run_tour};
+use strider_explore::registry::{self, Configured, RobotSpec, StrategyInfo};
 use strider_explore::{
-    GaitSpec, Mission, MissionLog, MissionParams, MissionProgress, Rates, Strategy,
+    GaitSpec, Mission, MissionLog, MissionParams, MissionProgress, MissionStrategy, Strategy,
+    TourExplorer,
 };
-use strider_learn::cost_model::CostModelParams;
-use strider_learn::gp::{GpParams, Kernel, KernelKind};
 use strider_log::recorder::{Recorder, RecorderOptions, Recording};
 use strider_log::writer::WriteSummary;
-use strider_map::params::MapParams;
 use strider_map::rect::WorldRect;
 use strider_scenario::{Scenario, SensorKind};
 use strider_sim::Simulator;
-
-/// A number (float or integer) from a `[strategy]` table, or `default`.
-pub fn num(table: &toml::Table, key: &str, default: f64) -> f64 {
-    let v = table.get(key);
-    v.and_then(|v| v.as_float())
-        .or_else(|| v.and_then(|v| v.as_integer()).map(|i| i as f64))
-        .unwrap_or(default)
-}
 
 /// The horizontal field of view of each of the robot's sensors, degrees (360: omnidirectional).
 pub fn sensor_hfovs(robot: &strider_scenario::RobotProfile) -> Vec<f64> {
@@ -43,99 +35,64 @@ pub fn sensor_hfovs(robot: &strider_scenario::RobotProfile) -> Vec<f64> {
         .collect()
 }
 
-/// Mission parameters from a scenario: the robot profile, the map parameters and the
-/// `[strategy]` table (`001` Tbl. 3 names).
-pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<MissionParams> {
-    let gaits: Vec<GaitSpec> = sc
-        .robot
-        .gaits
-        .iter()
-        .map(|g| GaitSpec {
-            name: g.name.clone(),
-            v_max: g.max_speed,
-        })
-        .collect();
-    if gaits.is_empty() {
-        bail!(
-            "scenario {}: robot profile {} has no gait",
-            sc.name,
-            sc.robot.name
-        );
-    }
+/// What the strategies know of a scenario: its robot profile, map parameters, bounds and time
+/// limit. Never its world.
+pub fn robot_spec(sc: &Scenario) -> RobotSpec {
     let b = &sc.bounds;
-    let hfov = sensor_hfovs(&sc.robot);
-    let mut p = robot_mission_params(
-        sc.map.clone(),
-        gaits,
-        hfov,
-        &sc.strategy,
-        Some(WorldRect::new(b.min, b.max)),
-        strategy,
-        seed,
-    );
-    p.time_limit_s = sc.time_limit_s;
-    Ok(p)
+    RobotSpec {
+        name: sc.robot.name.clone(),
+        gaits: sc
+            .robot
+            .gaits
+            .iter()
+            .map(|g| GaitSpec {
+                name: g.name.clone(),
+                v_max: g.max_speed,
+            })
+            .collect(),
+        sensor_hfov_deg: sensor_hfovs(&sc.robot),
+        map: sc.map.clone(),
+        bounds: Some(WorldRect::new(b.min, b.max)),
+        time_limit_s: sc.time_limit_s,
+        bumper: sc.robot.bumper,
+        proprio_rate_hz: sc.sim.proprio_rate_hz,
+        pose_rate_hz: sc.sim.pose_rate_hz,
+    }
 }
 
-/// Mission parameters from a robot's description without a scenario (a real robot's log):
-/// map parameters, gaits, sensor fields of view, the `001` Tbl. 3 values by the names of a
-/// scenario's `[strategy]` table, bounds. The time limit is one hour.
-pub fn robot_mission_params(
-    map: MapParams,
-    gaits: Vec<GaitSpec>,
-    sensor_hfov_deg: Vec<f64>,
-    table: &toml::Table,
-    bounds: Option<WorldRect>,
-    strategy: Strategy,
-    seed: u64,
-) -> MissionParams {
-    let sc = table;
-    let l = num(sc, "lengthscale", 0.4);
-    let sigma_eps = num(sc, "sigma_eps", 0.5);
-    let sigma_s = num(sc, "sigma_s", 1.0);
-    let gp = GpParams {
-        kernel: Kernel {
-            kind: KernelKind::SquaredExponential,
-            lengthscales: vec![l],
-            signal_variance: sigma_s,
-        },
-        noise_variance: sigma_eps * sigma_eps,
-        // Decision 12: costs are modelled as y − 1 with a zero-mean GP.
-        prior_mean: 1.0,
-    };
-    let mut cm = CostModelParams::new(gp);
-    cm.sigma_sense2 = num(sc, "sigma_sense", cm.sigma_sense2);
-    cm.sigma0_2 = num(sc, "sigma_0_sq", cm.sigma0_2);
-    cm.n_min = num(sc, "n_min", cm.n_min as f64) as usize;
-    cm.m_t = num(sc, "m_t", cm.m_t as f64) as usize;
-    cm.d_s = num(sc, "d_s", cm.d_s);
-    cm.c_max = num(sc, "c_max", cm.c_max);
-    cm.erode_steps = num(sc, "n_erode_steps", cm.erode_steps as f64) as usize;
-    cm.dilate_steps = num(sc, "n_dilate_steps", cm.dilate_steps as f64) as usize;
-    cm.dilate_size = num(sc, "n_dilate_size", cm.dilate_size as f64) as usize;
-    cm.igng.eps_winner = num(sc, "igng_eps_winner", cm.igng.eps_winner);
-    cm.igng.eps_neighbour = num(sc, "igng_eps_neighbour", cm.igng.eps_neighbour);
-    cm.igng.age_mature = num(sc, "igng_age_mature", cm.igng.age_mature as f64) as u32;
-    cm.igng.age_max = num(sc, "igng_age_max", cm.igng.age_max as f64) as u32;
-    cm.igng.batch = num(sc, "igng_batch", cm.igng.batch as f64) as usize;
-    MissionParams {
-        map,
-        gaits,
-        cost_model: cm,
-        window_s: num(sc, "delta_t", 5.0),
-        c_high: num(sc, "c_high", 20.0),
-        c_loss: num(sc, "c_loss", 10.0),
-        dt_sample: num(sc, "dt_sample", 30.0),
-        dt_fallback: num(sc, "dt_fallback", 30.0),
-        turning_baseline_s: num(sc, "turning_baseline_s", 0.5),
-        bounds,
-        time_limit_s: 3600.0,
-        strategy,
-        rates: Rates::default(),
-        max_sites_per_goal: 16,
-        sensor_hfov_deg,
-        seed,
+/// The scenario's `[strategy.<name>]` section, if it has one. Parameters directly under
+/// `[strategy]` (the format before strategies had sections) are an error that says where they
+/// go.
+pub fn section<'a>(sc: &'a Scenario, name: &str) -> Result<Option<&'a toml::Table>> {
+    if let Some((key, _)) = sc.strategy.iter().find(|(_, v)| !v.is_table()) {
+        bail!(
+            "scenario {}: [strategy] key `{key}` must sit in the section of its strategy, e.g. [strategy.gtsp] (`strider strategies` lists them)",
+            sc.name
+        );
     }
+    Ok(sc.strategy.get(name).and_then(|v| v.as_table()))
+}
+
+/// The strategy `name` configured from the scenario's `[strategy.<name>]` and the overrides
+/// `sets`, after checking that the scenario's robot can carry it.
+pub fn configure(
+    sc: &Scenario,
+    name: &str,
+    sets: &[(String, String)],
+) -> Result<(&'static StrategyInfo, Configured)> {
+    let info = registry::find(name)?;
+    info.fits(&robot_spec(sc))?;
+    let configured = info.configure(section(sc, info.name)?, sets)?;
+    Ok((info, configured))
+}
+
+/// Mission parameters of a `001` strategy from a scenario: the robot profile, the map
+/// parameters and the strategy's `[strategy.<name>]` section.
+pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<MissionParams> {
+    let (_, configured) = configure(sc, strategy.name(), &[])?;
+    configured
+        .tour_mission(&robot_spec(sc), seed)
+        .context("not a 001 strategy")
 }
 
 /// Runs `work` on a thread of rayon's global pool while the caller waits (directly when the
@@ -154,17 +111,51 @@ pub fn on_worker<T: Send>(work: impl FnOnce() -> T + Send) -> T {
     rayon::scope(|_| work())
 }
 
+/// Drives `mission` on the scenario's world (simulator seeded with `seed`), calling `observe`
+/// about once per simulated second; with `mcap`, records the robot's sensor stream and the
+/// mission's snapshots there (see `strider_log::recorder`) and returns what was written.
+pub fn drive<S: MissionStrategy>(
+    sc: &Scenario,
+    seed: u64,
+    mission: &mut Mission<S>,
+    mcap: Option<&Path>,
+    mut observe: impl FnMut(&Mission<S>, &MissionProgress),
+) -> Result<Option<WriteSummary>> {
+    let mut sim = Simulator::new(sc, seed)?;
+    let Some(file) = mcap else {
+        mission.run_watched(&mut sim, observe)?;
+        return Ok(None);
+    };
+    let names = sc.robot.gaits.iter().map(|g| g.name.clone()).collect();
+    let rec = Rc::new(RefCell::new(Recorder::create(
+        file,
+        RecorderOptions::new(names),
+    )?));
+    let mut robot = Recording::new(sim, rec.clone());
+    mission.run_watched(&mut robot, |m, p| {
+        observe(m, p);
+        let layers = rec.borrow().grid_due();
+        rec.borrow_mut().snapshot(&m.snapshot(layers));
+    })?;
+    rec.borrow_mut().snapshot(&mission.snapshot(true));
+    drop(robot);
+    let rec = Rc::try_unwrap(rec)
+        .map_err(|_| anyhow::anyhow!("the recorder is still shared"))?
+        .into_inner();
+    Ok(Some(rec.finish()?))
+}
+
 /// Runs an exploration mission with `params` on the scenario's world (simulator seeded with
 /// `seed`), reporting progress about once per simulated second.
 pub fn run_mission(
     sc: &Scenario,
     params: MissionParams,
     seed: u64,
-    progress: impl FnMut(&MissionProgress),
-) -> Result<(Mission, MissionLog)> {
-    let mut sim = Simulator::new(sc, seed)?;
-    let mut mission = Mission::new(params)?;
-    let log = mission.run_observed(&mut sim, progress)?.clone();
+    mut progress: impl FnMut(&MissionProgress),
+) -> Result<(Mission<TourExplorer>, MissionLog)> {
+    let mut mission = TourExplorer::mission(params)?;
+    drive(sc, seed, &mut mission, None, |_, p| progress(p))?;
+    let log = mission.strategy().log().clone();
     Ok((mission, log))
 }
 
@@ -176,27 +167,11 @@ pub fn run_mission_recorded(
     seed: u64,
     mut progress: impl FnMut(&MissionProgress),
     mcap: &std::path::Path,
-) -> Result<(Mission, MissionLog, WriteSummary)> {
-    let sim = Simulator::new(sc, seed)?;
-    let names = params.gaits.iter().map(|g| g.name.clone()).collect();
-    let rec = Rc::new(RefCell::new(Recorder::create(
-        mcap,
-        RecorderOptions::new(names),
-    )?));
-    let mut robot = Recording::new(sim, rec.clone());
-    let mut mission = Mission::new(params)?;
-    let log = mission
-        .run_watched(&mut robot, |m, p| {
-            progress(p);
-            rec.borrow_mut().snapshot(m, false);
-        })?
-        .clone();
-    rec.borrow_mut().snapshot(&mission, true);
-    drop(robot);
-    let rec = Rc::try_unwrap(rec)
-        .map_err(|_| anyhow::anyhow!("the recorder is still shared"))?
-        .into_inner();
-    let written = rec.finish()?;
+) -> Result<(Mission<TourExplorer>, MissionLog, WriteSummary)> {
+    let mut mission = TourExplorer::mission(params)?;
+    let written = drive(sc, seed, &mut mission, Some(mcap), |_, p| progress(p))?
+        .context("the recording wrote nothing")?;
+    let log = mission.strategy().log().clone();
     Ok((mission, log, written))
 }
 
@@ -205,7 +180,40 @@ pub fn run_mission_recorded(
 /// first waypoint facing the second. `on_start` is called before each (tour, mode).
 pub fn run_tours(
     sc: &Scenario,
-    mission: &Mission,
+    mission: &Mission<TourExplorer>,
+    seed: u64,
+    modes: &[NavigationMode],
+    on_start: impl FnMut(&str, NavigationMode),
+) -> Result<Vec<(String, Vec<TourResult>)>> {
+    let ex = mission.strategy();
+    run_tours_with(
+        sc,
+        Learned {
+            map: mission.body().map(),
+            models: ex.models(),
+            params: ex.params(),
+        },
+        seed,
+        modes,
+        on_start,
+    )
+}
+
+/// What benchmark tours navigate with: a map and the `001` per-gait models learned on it.
+#[derive(Clone, Copy)]
+pub struct Learned<'a> {
+    /// The map.
+    pub map: &'a strider_map::ElevationMap,
+    /// The per-gait cost models.
+    pub models: &'a [strider_learn::cost_model::GaitCostModel],
+    /// Their mission parameters (gaits, c_loss, bounds, the stuck reflex).
+    pub params: &'a MissionParams,
+}
+
+/// [`run_tours`] with any map and `001` models.
+pub fn run_tours_with(
+    sc: &Scenario,
+    learned: Learned,
     seed: u64,
     modes: &[NavigationMode],
     mut on_start: impl FnMut(&str, NavigationMode),
@@ -228,9 +236,9 @@ pub fn run_tours(
             let mut sim = Simulator::new(&sc2, seed)?;
             results.push(run_tour(
                 &mut sim,
-                mission.map(),
-                mission.models(),
-                mission.params(),
+                learned.map,
+                learned.models,
+                learned.params,
                 &pts,
                 mode,
             )?);

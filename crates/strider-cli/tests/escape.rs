@@ -17,9 +17,9 @@ fn arena() -> strider_scenario::Scenario {
 #[test]
 fn rigid_explores_the_office_only() {
     let sc = arena();
-    let mut p = escape_params(&sc, EscapeMode::Rigid).unwrap();
+    let mut p = escape_params(&sc, EscapeMode::Rigid, &[]).unwrap();
     p.time_limit_s = 400.0;
-    let trial = run_escape(&sc, p, 1, |_| {}).unwrap();
+    let trial = run_escape(&sc, p, 1, None, |_| {}).unwrap();
     assert_eq!(trial.sections.len(), 3);
     assert!(trial.sections[0].explored, "{:?}", trial.sections);
     assert!(!trial.sections[1].explored && !trial.sections[2].explored);
@@ -29,7 +29,7 @@ fn rigid_explores_the_office_only() {
     );
     // The rigid robot never pushes anything.
     assert!(trial.log.contacts.is_empty() && trial.log.pushes == 0);
-    assert!(trial.mission.haptic().is_empty());
+    assert!(trial.mission.strategy().haptic().is_empty());
 }
 
 /// C4 §5.2 behaviour 1: the first sampled obstacle is rigid (no predictor yet); the curtain's
@@ -38,11 +38,11 @@ fn rigid_explores_the_office_only() {
 #[test]
 fn escape_samples_a_rigid_obstacle_then_the_uncertain_curtain_and_leaves() {
     let sc = arena();
-    let mut p = escape_params(&sc, EscapeMode::Escape).unwrap();
+    let mut p = escape_params(&sc, EscapeMode::Escape, &[]).unwrap();
     p.time_limit_s = 950.0;
     let thr = p.predictor.entropy_threshold;
     let f_trav = p.haptic.f_trav;
-    let trial = run_escape(&sc, p, 3, |_| {}).unwrap();
+    let trial = run_escape(&sc, p, 3, None, |_| {}).unwrap();
     let c = &trial.log.contacts;
     assert!(c.len() >= 2, "{c:?}");
     // First contact: rigid, no predictor existed.
@@ -115,11 +115,11 @@ fn escape_samples_the_curtain_first_then_corrects_an_over_optimistic_wall() {
     sc.bounds.min = strider_core::Point2::new(wx - 1.2, y0 - 0.25);
     sc.bounds.max = strider_core::Point2::new(sc.bounds.max.x, y1 + 0.25);
     sc.start = strider_core::Pose2::new(wx - 1.0, 0.5 * (y0 + y1), 0.0);
-    let mut p = escape_params(&sc, EscapeMode::Escape).unwrap();
+    let mut p = escape_params(&sc, EscapeMode::Escape, &[]).unwrap();
     // Measured with this construction: the curtain at 36 s, the corrected wall push at 146 s.
     p.time_limit_s = 170.0;
     let (f_trav, thr) = (p.haptic.f_trav, p.predictor.entropy_threshold);
-    let trial = run_escape(&sc, p, 1, |_| {}).unwrap();
+    let trial = run_escape(&sc, p, 1, None, |_| {}).unwrap();
     let c = &trial.log.contacts;
     assert!(!c.is_empty());
     assert!(c[0].force < f_trav && c[0].predicted.is_none(), "{c:?}");

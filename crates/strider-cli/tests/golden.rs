@@ -12,12 +12,54 @@ use common::{stderr, strider, temp_dir};
 
 /// (name, scenario, world seed, strategy, seed, simulated time limit in s).
 const MISSIONS: [(&str, &str, &str, &str, &str, &str); 6] = [
-    ("gtsp-courtyard-small", "courtyard-small", "1", "gtsp", "1", "200"),
-    ("greedy-courtyard-small", "courtyard-small", "2", "greedy", "3", "200"),
-    ("spatial-only-courtyard-large", "courtyard-large", "1", "spatial-only", "2", "150"),
-    ("rbcm-greedy-lab-track", "lab-track", "1", "rbcm-greedy", "1", "150"),
-    ("escape-escape-arena", "escape-arena", "1", "escape", "1", "200"),
-    ("rigid-escape-arena", "escape-arena", "1", "rigid", "2", "120"),
+    (
+        "gtsp-courtyard-small",
+        "courtyard-small",
+        "1",
+        "gtsp",
+        "1",
+        "200",
+    ),
+    (
+        "greedy-courtyard-small",
+        "courtyard-small",
+        "2",
+        "greedy",
+        "3",
+        "200",
+    ),
+    (
+        "spatial-only-courtyard-large",
+        "courtyard-large",
+        "1",
+        "spatial-only",
+        "2",
+        "150",
+    ),
+    (
+        "rbcm-greedy-lab-track",
+        "lab-track",
+        "1",
+        "rbcm-greedy",
+        "1",
+        "150",
+    ),
+    (
+        "escape-escape-arena",
+        "escape-arena",
+        "1",
+        "escape",
+        "1",
+        "200",
+    ),
+    (
+        "rigid-escape-arena",
+        "escape-arena",
+        "1",
+        "rigid",
+        "2",
+        "120",
+    ),
 ];
 
 /// Drops what depends on the machine and its load: wall-clock durations and rates.
@@ -60,7 +102,11 @@ fn first_difference(a: &Value, b: &Value, at: &str) -> Option<String> {
 
 fn short(v: &Value) -> String {
     let s = v.to_string();
-    if s.len() > 120 { format!("{}…", &s[..120]) } else { s }
+    if s.len() > 120 {
+        format!("{}…", &s[..120])
+    } else {
+        s
+    }
 }
 
 #[test]
@@ -101,5 +147,9 @@ fn golden_missions_are_unchanged() {
             failures.push(d);
         }
     }
-    assert!(failures.is_empty(), "golden missions changed:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "golden missions changed:\n{}",
+        failures.join("\n")
+    );
 }

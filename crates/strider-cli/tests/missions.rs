@@ -4,7 +4,7 @@
 
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{GaitId, Point2};
-use strider_explore::{Mission, Strategy, Termination};
+use strider_explore::{Strategy, Termination, TourExplorer};
 use strider_scenario::Scenario;
 use strider_scenario::ground_truth::point_in_mask;
 use strider_sim::Simulator;
@@ -74,12 +74,9 @@ fn centre_never_enters_an_inadmissible_cell() {
         let mut params = mission_params(&sc, strategy, seed).expect("params");
         params.time_limit_s = 150.0;
         let mut judge = Judge::new(&sc, seed);
-        let mut mission = Mission::new(params).expect("mission");
+        let mut mission = TourExplorer::mission(params).expect("mission");
         let log = mission.run(&mut judge).expect("mission runs").clone();
-        assert!(
-            log.run.driven_m > 0.3,
-            "seed {seed}: the robot hardly moved"
-        );
+        assert!(log.driven_m > 0.3, "seed {seed}: the robot hardly moved");
         assert!(
             judge.violations.is_empty(),
             "{name} world {world_seed} seed {seed} {strategy:?}: centre in inadmissible cells at {:?}",
@@ -108,24 +105,22 @@ fn bounded_explorations_terminate_and_repeat_exactly() {
             let mut params = mission_params(&sc, strategy, seed).expect("params");
             params.time_limit_s = 1500.0;
             let mut sim = Simulator::new(&sc, seed).expect("simulator");
-            let mut mission = Mission::new(params).expect("mission");
-            let log = mission.run(&mut sim).expect("mission runs").clone();
-            (log, mission.map().observed_count())
+            let mut mission = TourExplorer::mission(params).expect("mission");
+            let run = mission.run(&mut sim).expect("mission runs").clone();
+            let log = mission.strategy().log().clone();
+            (run, log, mission.body().map().observed_count())
         };
-        let (a, cells_a) = run();
+        let (a, log_a, cells_a) = run();
         assert_ne!(
-            a.run.termination,
+            a.termination,
             Termination::TimeLimit,
             "world {world_seed} seed {seed} {strategy:?} did not terminate in {} s",
-            a.run.exploration_time_s
+            a.exploration_time_s
         );
-        let (b, cells_b) = run();
-        assert_eq!(
-            a.run.trajectory, b.run.trajectory,
-            "same seed, same trajectory"
-        );
-        assert_eq!(a.run.termination, b.run.termination);
-        assert_eq!(a.cost_samples, b.cost_samples);
+        let (b, log_b, cells_b) = run();
+        assert_eq!(a.trajectory, b.trajectory, "same seed, same trajectory");
+        assert_eq!(a.termination, b.termination);
+        assert_eq!(log_a.cost_samples, log_b.cost_samples);
         assert_eq!(cells_a, cells_b);
     }
 }
@@ -144,9 +139,9 @@ fn cost_samples_survive_heading_jitter() {
             params.turning_baseline_s = b;
         }
         let mut sim = Simulator::new(&sc, 1).expect("simulator");
-        let mut mission = Mission::new(params).expect("mission");
-        let log = mission.run(&mut sim).expect("mission runs").clone();
-        log.cost_samples.iter().sum::<usize>()
+        let mut mission = TourExplorer::mission(params).expect("mission");
+        mission.run(&mut sim).expect("mission runs");
+        mission.strategy().log().cost_samples.iter().sum::<usize>()
     };
     let (smoothed, tick) = (samples(None), samples(Some(0.05)));
     assert!(
@@ -157,7 +152,10 @@ fn cost_samples_survive_heading_jitter() {
     // A baseline that is not positive is a parameter error.
     let mut params = mission_params(&sc, Strategy::Gtsp, 1).expect("params");
     params.turning_baseline_s = 0.0;
-    let err = Mission::new(params).err().expect("rejected").to_string();
+    let err = TourExplorer::mission(params)
+        .err()
+        .expect("rejected")
+        .to_string();
     assert!(err.contains("baseline"), "{err}");
 }
 
@@ -171,13 +169,13 @@ fn planning_view_follows_the_models_within_a_tour_period() {
     params.time_limit_s = 300.0;
     let period = 1.0 / params.rates.tour_hz;
     let mut sim = Simulator::new(&sc, 1).expect("simulator");
-    let mut mission = Mission::new(params).expect("mission");
+    let mut mission = TourExplorer::mission(params).expect("mission");
     // (time, learning updates, updates the view reflects) at every observation.
     let mut seen: Vec<(f64, u64, u64)> = Vec::new();
     mission
         .run_watched(&mut sim, |m, p| {
-            if let Some(v) = m.view_learning_updates() {
-                seen.push((p.time_s, m.learning_updates(), v));
+            if let Some(v) = m.strategy().view_learning_updates() {
+                seen.push((p.time_s, m.strategy().learning_updates(), v));
             }
         })
         .expect("mission runs");

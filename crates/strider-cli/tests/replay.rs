@@ -7,7 +7,7 @@ mod common;
 use std::path::Path;
 use strider_cli::trial::{mission_params, run_mission, run_mission_recorded};
 use strider_core::msg::ColoredPoint;
-use strider_explore::{Mission, Strategy};
+use strider_explore::{Strategy, TourExplorer};
 use strider_log::ros2::{self, Header, MsgType, Odometry, Quaternion, Time, UInt8Msg};
 use strider_log::{LogReplay, McapWriter, ReplayConfig};
 use strider_scenario::Scenario;
@@ -31,23 +31,24 @@ fn replay_of_a_recorded_mission_gives_the_live_map_and_costs() {
     assert!(written.messages["/strider/map"] > 5);
 
     // Recording does not change the mission.
-    let (_, plain_log) = run_mission(&sc, params.clone(), 1, |_| {}).unwrap();
-    assert_eq!(plain_log.run.trajectory, live_log.run.trajectory);
+    let (plain, plain_log) = run_mission(&sc, params.clone(), 1, |_| {}).unwrap();
+    assert_eq!(plain.record().trajectory, live.record().trajectory);
     assert_eq!(plain_log.cost_samples, live_log.cost_samples);
 
     // Replay through the log reader and the mission's passive loop.
     let cfg = ReplayConfig::parse("[mission]\nscenario = \"courtyard-small\"\n").unwrap();
-    let mut replay = LogReplay::open(&file, &cfg, &params).unwrap();
+    let mut replay = LogReplay::open(&file, &cfg, &params.gaits).unwrap();
     let mut rp = params.clone();
     rp.time_limit_s = replay.time_limit_s(1.0 / rp.rates.control_hz);
-    let mut mission = Mission::new(rp).unwrap();
-    let log = mission.ingest(&mut replay, |_, _| {}).unwrap().clone();
+    let mut mission = TourExplorer::mission(rp).unwrap();
+    let run = mission.ingest(&mut replay, |_, _| {}).unwrap().clone();
     assert!(replay.warnings().is_empty(), "{:?}", replay.warnings());
-    assert_eq!(log.cost_samples, live_log.cost_samples);
-    assert!((log.run.exploration_time_s - live_log.run.exploration_time_s).abs() < 1e-9);
+    assert_eq!(mission.strategy().log().cost_samples, live_log.cost_samples);
+    assert!((run.exploration_time_s - live.record().exploration_time_s).abs() < 1e-9);
 
     // Map layers.
-    let (a, b) = (live.map(), mission.map());
+    let (a, b) = (live.body().map(), mission.body().map());
+    let (live, mission) = (live.strategy(), mission.strategy());
     let rect = a.known_bounds().unwrap();
     assert_eq!(Some(rect), b.known_bounds());
     assert_eq!(a.scan_count(), b.scan_count());
@@ -117,6 +118,56 @@ fn replay_of_a_recorded_mission_gives_the_live_map_and_costs() {
         }
     }
     assert!(out.join("report.html").exists() && out.join("color.png").exists());
+}
+
+/// Every exploration strategy on both robots records with `--mcap` (the kernel's recorder
+/// reads the mission's snapshot, whatever the strategy), and replaying each recording maps the
+/// same cells with the same elevations as the live run.
+#[test]
+fn every_strategy_records_and_its_replay_gives_its_map() {
+    let dir = common::temp_dir("replay", "every-strategy");
+    for scenario in ["courtyard-small", "lab-track"] {
+        let sc = Scenario::from_name_or_file(scenario, 1).unwrap();
+        let mut robot = strider_cli::trial::robot_spec(&sc);
+        robot.time_limit_s = 60.0;
+        for name in ["gtsp", "greedy", "spatial-only", "rbcm-greedy"] {
+            let (_, configured) = strider_cli::trial::configure(&sc, name, &[]).unwrap();
+            let mut live = configured.build(&robot, 2).unwrap();
+            let file = dir.join(format!("{scenario}-{name}.mcap"));
+            let written = strider_cli::trial::drive(&sc, 2, &mut live, Some(&file), |_, _| {})
+                .unwrap()
+                .unwrap();
+            assert!(written.messages["/strider/map"] > 0, "{name} on {scenario}");
+            assert!(
+                written.messages["/strider/goals"] > 10,
+                "{name} on {scenario}"
+            );
+
+            let cfg =
+                ReplayConfig::parse(&format!("[mission]\nscenario = \"{scenario}\"\n")).unwrap();
+            let params = mission_params(&sc, Strategy::Gtsp, 2).unwrap();
+            let mut replay = LogReplay::open(&file, &cfg, &params.gaits).unwrap();
+            let mut rp = params.clone();
+            rp.time_limit_s = replay.time_limit_s(1.0 / rp.rates.control_hz);
+            let mut replayed = TourExplorer::mission(rp).unwrap();
+            replayed.ingest(&mut replay, |_, _| {}).unwrap();
+
+            let (a, b) = (live.body().map(), replayed.body().map());
+            let what = format!("{name} on {scenario}");
+            assert!(a.observed_count() > 500, "{what}: {}", a.observed_count());
+            assert_eq!(a.scan_count(), b.scan_count(), "{what}");
+            let rect = a.known_bounds().unwrap();
+            assert_eq!(Some(rect), b.known_bounds(), "{what}");
+            assert_eq!(a.observed_raster(rect), b.observed_raster(rect), "{what}");
+            let (x, y) = (a.elevation_raster(rect), b.elevation_raster(rect));
+            let differ = x
+                .iter()
+                .zip(&y)
+                .filter(|(p, q)| !close(**p as f64, **q as f64))
+                .count();
+            assert_eq!(differ, 0, "{what}: {differ} elevations differ");
+        }
+    }
 }
 
 /// A small valid log: poses, one coloured scan, motion states.

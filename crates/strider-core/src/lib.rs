@@ -18,8 +18,10 @@ pub mod geom;
 pub mod grid;
 pub mod interface;
 pub mod msg;
+pub mod snapshot;
 
 pub use color::{Lab, Rgb8};
 pub use geom::{Point2, Point3, Pose2};
 pub use grid::{Cell, CellRect};
 pub use msg::{ColoredPoint, GaitId, PointCloud, PoseStamped, Proprioception};
+pub use snapshot::{GaitSpec, Snapshot};

@@ -10,7 +10,7 @@
 //! * [`NavigationMode::Learned`] — the proposed: cheapest paths on the learned, merged cost grid
 //!   and the learned gait choice.
 
-use crate::mission::{MissionError, TrajectorySample};
+use crate::kernel::{MissionError, TrajectorySample};
 use crate::params::MissionParams;
 use crate::planner::{CostMode, PlanningView, nearest_where};
 use serde::Serialize;
@@ -144,7 +144,7 @@ pub fn run_tour<R: Robot>(
         iv.window_s,
         iv.window_s,
         iv.rate_hz,
-        crate::mission::TURNING_RATE,
+        crate::tour_explorer::TURNING_RATE,
         params.turning_baseline_s,
     )
     .map_err(|e| MissionError::Params(e.to_string()))?;
@@ -239,7 +239,7 @@ pub fn run_tour<R: Robot>(
                     robot.follow(q);
                 }
             }
-            let stuck = crate::mission::reflex_stuck(&sink.signal, &sink.turns);
+            let stuck = crate::tour_explorer::reflex_stuck(&sink.signal, &sink.turns);
             fallback.update(t, stuck);
             let g = if fallback.is_active(t) {
                 fallback_ticks += 1;

@@ -7,10 +7,15 @@
 //! * [`planner`]: the merged planning grid (Eq. 12–13 with the distance transform of decision
 //!   21), cheapest paths, gait choice (Alg. 4) and the exploration tour from an open GTSP over
 //!   goal sets (Alg. 1 line 17, decision 23), or cheapest-goal-next for the greedy baseline.
-//! * [`mission`]: the loop of Alg. 1 at the module rates of `001` Tbl. 4, the sampling
-//!   manoeuvre (decision 24), the stuck reflex (decision 9) and termination (decision 25).
+//! * [`kernel`]: the mission kernel — one robot body (pose, map, keyframes, trajectory), one
+//!   run loop, the shared manoeuvres, and the [`kernel::Strategy`] trait every method
+//!   implements.
+//! * [`tour_explorer`]: `001` Alg. 1 on the kernel (`gtsp`, `greedy`, `spatial-only`) at the
+//!   module rates of Tbl. 4, the sampling manoeuvre (decision 24), the stuck reflex (decision 9)
+//!   and termination (decision 25).
 //! * [`evaluate`]: benchmark tours after exploration under the flat, gait-selection and learned
 //!   navigation modes (`001` §5, Tbl. 5), timed per segment.
+//! * [`registry`]: every strategy by name with its paper, typed parameters and needs.
 //! * [`stats`]: summaries and Mann–Whitney U tests for comparing strategies over trials.
 //! * [`energy_tours`]: `003` energy-optimal repeated tours — a zero-mean GP of motive energy
 //!   per metre learnt from the power stream, waypoints ordered by the exact TSP, re-planned
@@ -28,15 +33,19 @@
 pub mod energy_tours;
 pub mod escape;
 pub mod evaluate;
-pub mod keyframes;
-pub mod mission;
+pub mod kernel;
 pub mod navigate;
 pub mod params;
 pub mod planner;
 pub mod rbcm_greedy;
+pub mod registry;
+pub mod shadow;
 pub mod stats;
+pub mod tour_explorer;
 
-pub use mission::{
-    Mission, MissionError, MissionLog, MissionProgress, PhaseWall, RunRecord, Termination,
+pub use kernel::{
+    Body, BodyParams, Mission, MissionError, MissionProgress, RunRecord,
+    Strategy as MissionStrategy, Termination,
 };
 pub use params::{GaitSpec, MissionParams, Rates, Strategy};
+pub use tour_explorer::{MissionLog, PhaseWall, TourExplorer};

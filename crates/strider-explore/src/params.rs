@@ -11,14 +11,7 @@ use strider_learn::signals::InverseVelocityParams;
 use strider_map::params::MapParams;
 use strider_map::rect::WorldRect;
 
-/// One gait of the robot.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GaitSpec {
-    /// Gait name (e.g. `fast`, `tall`).
-    pub name: String,
-    /// Its maximum speed on ideal terrain, m/s.
-    pub v_max: f64,
-}
+pub use strider_core::GaitSpec;
 
 /// Exploration strategy (`001` §5 and its baselines).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -48,6 +41,29 @@ impl Strategy {
             "greedy" => Some(Strategy::Greedy),
             "spatial-only" => Some(Strategy::SpatialOnly),
             _ => None,
+        }
+    }
+}
+
+/// The budget of one GTSP solve within a mission (the solver stops at the first limit hit;
+/// the iteration limits decide on any instance a mission makes, so a mission is deterministic
+/// for its seed).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TourSolver {
+    /// Wall-clock limit, s.
+    pub time_limit_s: f64,
+    /// Restarts.
+    pub max_trials: usize,
+    /// Iterations per restart.
+    pub max_iterations: usize,
+}
+
+impl Default for TourSolver {
+    fn default() -> Self {
+        Self {
+            time_limit_s: 5.0,
+            max_trials: 2,
+            max_iterations: 2000,
         }
     }
 }
@@ -116,6 +132,16 @@ pub struct MissionParams {
     pub sensor_hfov_deg: Vec<f64>,
     /// Seed of every random choice of the mission (IGNG batches, GTSP).
     pub seed: u64,
+    /// At a reached spatial goal, a robot whose sensors do not see all around turns once on
+    /// the spot (our design choice, not the paper's; default on).
+    pub look_around: bool,
+    /// A replan before the pursued goal is reached keeps that goal first (our design choice,
+    /// not the paper's; default on).
+    pub commit_to_goal: bool,
+    /// The budget of each GTSP solve.
+    pub solver: TourSolver,
+    /// Spacing of the Eq. 11 candidate lattice, m (`None`: max(0.2 m, r_sensor/20)).
+    pub info_gain_spacing_m: Option<f64>,
 }
 
 impl MissionParams {
@@ -143,12 +169,7 @@ impl MissionParams {
 
     /// The fastest gait (ties: the lowest index): the start gait and the reactive gait.
     pub fn fastest_gait(&self) -> GaitId {
-        let g = &self.gaits;
-        GaitId(
-            (0..g.len())
-                .max_by(|&a, &b| g[a].v_max.total_cmp(&g[b].v_max).then(b.cmp(&a)))
-                .unwrap_or(0) as u8,
-        )
+        strider_core::snapshot::fastest_gait(&self.gaits)
     }
 
     /// Parameters of the inverse-velocity cost signal (Eq. 19–20): every gait is scaled by the

@@ -2,6 +2,7 @@
 //! cheapest paths, gait choice (Alg. 4) and the exploration tour over goal sets (Alg. 1 line 17,
 //! decision 23).
 
+use crate::params::TourSolver;
 use rayon::prelude::*;
 use strider_core::{Cell, CellRect, GaitId, Point2};
 use strider_learn::cost_model::GaitCostModel;
@@ -214,8 +215,18 @@ pub fn farthest_point_subsample(sites: &[Cell], k: usize) -> Vec<Cell> {
     chosen
 }
 
+/// How a tour orders its goals.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TourOrder<'a> {
+    /// An open GTSP over the robot vertex and every site (decision 23), solved within this
+    /// budget.
+    Gtsp(&'a TourSolver),
+    /// The cheapest goal next (the myopic baseline).
+    CheapestNext,
+}
+
 /// Orders `goals` from the robot's cell: an open GTSP over the robot vertex and every site
-/// (decision 23), or the cheapest goal next when `greedy`. Goals none of whose sites is
+/// (decision 23), or the cheapest goal next. Goals none of whose sites is
 /// reachable are left out. Deterministic for a seed (iteration limits, no wall-clock limit
 /// decides the result unless the instance is huge).
 ///
@@ -231,7 +242,7 @@ pub fn plan_tour(
     view: &PlanningView,
     robot: Cell,
     goals: &[TourGoal],
-    greedy: bool,
+    order: TourOrder,
     seed: u64,
     previous: &[(GoalKey, Cell)],
     first: Option<usize>,
@@ -273,7 +284,7 @@ pub fn plan_tour(
     let cost_of = |a: usize, b: usize| costs.get(reachable[a], reachable[b]);
     // The set that must come first, if that goal is still reachable.
     let first_set = first.and_then(|g| set_goal.iter().position(|&x| x == g));
-    if greedy {
+    let TourOrder::Gtsp(budget) = order else {
         // Cheapest goal next: the cheapest site of any goal from the robot.
         let mut best: Option<(f64, usize, usize)> = None;
         for (s, vs) in sets.iter().enumerate() {
@@ -295,7 +306,7 @@ pub fn plan_tour(
             all_pairs_ms,
             gtsp_ms: 0.0,
         });
-    }
+    };
     // Integer costs in millimetre-cost units; unreachable pairs get a large finite penalty.
     let finite_max = (0..n)
         .flat_map(|a| (0..n).map(move |b| (a, b)))
@@ -342,12 +353,12 @@ pub fn plan_tour(
     }
     let params = SolverParams {
         mode: Mode::Fast,
-        time_limit_s: 5.0,
+        time_limit_s: budget.time_limit_s,
         seed,
         open: Some(0),
         warm_start: (warm.len() > 1).then_some(warm),
-        max_trials: Some(2),
-        max_iterations: Some(2000),
+        max_trials: Some(budget.max_trials),
+        max_iterations: Some(budget.max_iterations as u64),
         stall_iterations: Some(300),
         ..SolverParams::default()
     };

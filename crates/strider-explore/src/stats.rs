@@ -95,7 +95,7 @@ fn validate(sample: &'static str, xs: &[f64]) -> Result<(), StatsError> {
 }
 
 /// Descriptive statistics of one sample (e.g. the exploration times of one method over trials).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Summary {
     /// Number of observations (≥ 1).
     pub n: usize,

@@ -2,8 +2,9 @@
 
 use proptest::prelude::*;
 use strider_core::{Cell, CellRect, GaitId, Point2, Rgb8};
+use strider_explore::params::TourSolver;
 use strider_explore::planner::{
-    CostMode, GoalKey, PlanningView, TourGoal, farthest_point_subsample, plan_tour,
+    CostMode, GoalKey, PlanningView, TourGoal, TourOrder, farthest_point_subsample, plan_tour,
 };
 use strider_learn::cost_model::{CostModelParams, GaitCostModel};
 use strider_map::ElevationMap;
@@ -111,7 +112,7 @@ fn the_tour_visits_one_site_per_reachable_goal_and_skips_unreachable_ones() {
         },
     ];
     for greedy in [false, true] {
-        let tour = plan_tour(&view, Cell::new(5, 5), &goals, greedy, 1, &[], None).unwrap();
+        let tour = plan_tour(&view, Cell::new(5, 5), &goals, order(greedy), 1, &[], None).unwrap();
         if greedy {
             assert_eq!(tour.order.len(), 1);
             continue;
@@ -135,10 +136,19 @@ fn a_warm_started_replan_keeps_the_standing_tour_and_drops_what_is_gone() {
             sites: vec![Cell::new(i, j)],
         })
         .collect();
-    let cold = plan_tour(&view, Cell::new(5, 5), &goals, false, 1, &[], None).unwrap();
+    let cold = plan_tour(&view, Cell::new(5, 5), &goals, order(false), 1, &[], None).unwrap();
     assert_eq!(cold.order.len(), 4);
     // Re-solving from its own tour finds the same order and cost.
-    let warm = plan_tour(&view, Cell::new(5, 5), &goals, false, 1, &cold.order, None).unwrap();
+    let warm = plan_tour(
+        &view,
+        Cell::new(5, 5),
+        &goals,
+        order(false),
+        1,
+        &cold.order,
+        None,
+    )
+    .unwrap();
     assert_eq!(warm.order, cold.order);
     assert_eq!(warm.cost, cold.cost);
     // A previous tour naming goals that are gone, sites that moved and a goal not yet known:
@@ -147,7 +157,16 @@ fn a_warm_started_replan_keeps_the_standing_tour_and_drops_what_is_gone() {
     previous.extend(cold.order.iter().skip(1).copied());
     previous.push((goals[1].key, Cell::new(11, 25)));
     let fewer = &goals[1..];
-    let t = plan_tour(&view, Cell::new(5, 5), fewer, false, 1, &previous, None).unwrap();
+    let t = plan_tour(
+        &view,
+        Cell::new(5, 5),
+        fewer,
+        order(false),
+        1,
+        &previous,
+        None,
+    )
+    .unwrap();
     let mut keys: Vec<GoalKey> = t.order.iter().map(|o| o.0).collect();
     keys.sort();
     let mut want: Vec<GoalKey> = fewer.iter().map(|g| g.key).collect();
@@ -172,14 +191,14 @@ fn a_committed_goal_comes_first_and_the_rest_is_ordered_behind_it() {
         sites: vec![Cell::new(20, 5)], // on the wall: unreachable
     });
     let robot = Cell::new(5, 5);
-    let free = plan_tour(&view, robot, &goals, false, 1, &[], None).unwrap();
+    let free = plan_tour(&view, robot, &goals, order(false), 1, &[], None).unwrap();
     assert_eq!(
         free.order[0].0, goals[0].key,
         "the nearest goal starts the free tour"
     );
     for greedy in [false, true] {
         // Committed to the far goal behind the wall.
-        let t = plan_tour(&view, robot, &goals, greedy, 1, &[], Some(3)).unwrap();
+        let t = plan_tour(&view, robot, &goals, order(greedy), 1, &[], Some(3)).unwrap();
         assert_eq!(
             t.order[0],
             (goals[3].key, Cell::new(35, 5)),
@@ -194,7 +213,7 @@ fn a_committed_goal_comes_first_and_the_rest_is_ordered_behind_it() {
         }
         // A committed goal that is unreachable, or out of range, commits to nothing.
         for first in [Some(4), Some(99)] {
-            let u = plan_tour(&view, robot, &goals, greedy, 1, &[], first).unwrap();
+            let u = plan_tour(&view, robot, &goals, order(greedy), 1, &[], first).unwrap();
             assert_eq!(
                 u.order[0].0, goals[0].key,
                 "greedy={greedy} first={first:?}"
@@ -219,5 +238,15 @@ proptest! {
         dedup.dedup();
         prop_assert_eq!(dedup.len(), sub.len());
         prop_assert!(sub.iter().all(|s| sites.contains(s)));
+    }
+}
+
+/// The tour order of the GTSP explorer (default budget) or the greedy baseline.
+fn order(greedy: bool) -> TourOrder<'static> {
+    static SOLVER: std::sync::LazyLock<TourSolver> = std::sync::LazyLock::new(TourSolver::default);
+    if greedy {
+        TourOrder::CheapestNext
+    } else {
+        TourOrder::Gtsp(&SOLVER)
     }
 }

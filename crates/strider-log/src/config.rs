@@ -57,7 +57,7 @@ use crate::error::LogError;
 use crate::ros2::MissingRgb;
 use serde::Deserialize;
 use std::path::Path;
-use strider_explore::GaitSpec;
+use strider_core::GaitSpec;
 use strider_map::params::MapParams;
 
 /// The whole replay configuration.

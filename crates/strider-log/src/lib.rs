@@ -16,7 +16,7 @@
 //! * [`cdr`] and [`ros2`]: the ROS 2 wire format (CDR via the [`cdr`](::cdr) crate with our own
 //!   serde structs, hardened against hostile lengths) and the message definitions.
 //! * [`replay`]: a recorded log behind [`strider_core::interface::Robot`], for
-//!   [`strider_explore::Mission::ingest`]; [`config`] its TOML configuration.
+//!   `strider_explore::Mission::ingest`; [`config`] its TOML configuration.
 //! * [`error`]: [`LogError`], which says what was wrong and where (file, topic, message index,
 //!   byte offset).
 //!

@@ -5,7 +5,7 @@
 //! The robot side is captured by [`Recording`], a [`Robot`] adaptor that forwards everything
 //! to the wrapped robot and tees the sensor stream, the gait commands, the commanded paths and
 //! the motion state per control tick into the [`Recorder`]; the mission side by
-//! [`Recorder::snapshot`], called from [`strider_explore::Mission::run_watched`]'s observer.
+//! [`Recorder::snapshot`] of the mission's [`Snapshot`], taken by the mission's observer.
 //! Neither changes what the mission does.
 //!
 //! Topics (defaults of [`Topics`]; frames `map` (world) and `base_link`, `sensor_<i>`):
@@ -38,12 +38,12 @@ use crate::writer::{McapWriter, WriteSummary};
 use foxglove::bytes::Bytes;
 use foxglove::messages as fg;
 use std::cell::RefCell;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 use std::path::Path;
 use std::rc::Rc;
 use strider_core::interface::{MotionState, Robot, SensorSink};
-use strider_core::{Cell, GaitId, Point2, PointCloud, PoseStamped};
-use strider_explore::Mission;
+use strider_core::snapshot::{GoalKind, Layers, MeasuredCost, Snapshot};
+use strider_core::{GaitId, Point2, PointCloud, PoseStamped};
 
 /// Topic and frame names of a recording.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -387,82 +387,71 @@ impl Recorder {
         self.keep(r);
     }
 
-    /// Records the mission's state at the latest tick: goals and tour always, the map grid
-    /// and the experienced costs when `grid_period_s` has passed since the last ones (or
-    /// `force`).
-    pub fn snapshot(&mut self, m: &Mission, force: bool) {
+    /// True when the map grid and the experienced costs are due (`grid_period_s` of robot
+    /// time since the last ones): ask the mission for a snapshot with layers then.
+    pub fn grid_due(&self) -> bool {
+        self.opts.visualisation
+            && self
+                .last_grid
+                .is_none_or(|t| self.now - t >= self.opts.grid_period_s)
+    }
+
+    /// Records a mission's state: goals and tour always, the map grid and the experienced
+    /// costs when the snapshot has layers.
+    pub fn snapshot(&mut self, s: &Snapshot) {
         if !self.opts.visualisation {
             return;
         }
-        let ns = seconds_to_nanos(self.now);
-        let r = self.goals(m, ns);
+        let ns = seconds_to_nanos(s.time_s);
+        let r = self.goals(s, ns);
         self.keep(r);
-        let due = self
-            .last_grid
-            .is_none_or(|t| self.now - t >= self.opts.grid_period_s);
-        if due || force {
+        if let Some(layers) = &s.layers {
             self.last_grid = Some(self.now);
-            let r = self.grid(m, ns).and_then(|()| self.costs(m, ns));
+            let r = self
+                .grid(layers, s.cell_size, ns)
+                .and_then(|()| self.costs(&s.measured, ns));
             self.keep(r);
         }
     }
 
-    fn site(m: &Mission, c: Cell) -> (f64, f64, f64) {
-        let d = m.map().cell_size();
-        let p = c.center(d);
-        let z = m
-            .map()
-            .elevation(c)
-            .filter(|z| z.is_finite())
-            .unwrap_or(0.0) as f64;
-        (p.x, p.y, z)
-    }
-
-    fn goals(&mut self, m: &Mission, ns: i64) -> Result<(), LogError> {
+    fn goals(&mut self, s: &Snapshot, ns: i64) -> Result<(), LogError> {
         let world = self.opts.topics.world_frame.clone();
-        let d = m.map().cell_size();
-        let entity = |id: String, spheres: Vec<fg::SpherePrimitive>| fg::SceneEntity {
-            timestamp: Some(fg_time(ns)),
-            frame_id: world.clone(),
-            id,
-            spheres,
-            ..Default::default()
-        };
-        let sphere = |c: Cell, color: fg::Color, r: f64| {
-            let (x, y, z) = Self::site(m, c);
-            fg::SpherePrimitive {
-                pose: Some(fg_pose(x, y, z + r, Quaternion::IDENTITY)),
-                size: Some(fg::Vector3 {
-                    x: 2.0 * r,
-                    y: 2.0 * r,
-                    z: 2.0 * r,
-                }),
-                color: Some(color),
-            }
-        };
+        let d = s.cell_size;
         let white = fg::Color {
             r: 1.0,
             g: 1.0,
             b: 1.0,
             a: 0.9,
         };
-        let mut entities = vec![entity(
-            "spatial_goals".into(),
-            m.spatial_goals()
-                .iter()
-                .map(|g| sphere(g.cell, white, 2.0 * d))
-                .collect(),
-        )];
-        for (g, name) in self.opts.gait_names.iter().enumerate() {
-            let spheres = m
-                .cost_goals()
-                .iter()
-                .filter(|(gg, _)| *gg as usize == g)
-                .flat_map(|(_, goal)| goal.sites.iter())
-                .map(|&c| sphere(c, gait_color(g, 0.9), 1.5 * d))
-                .collect();
-            entities.push(entity(format!("cost_goals_{name}"), spheres));
-        }
+        let entities = s
+            .goals
+            .iter()
+            .map(|set| {
+                let (color, r) = match set.kind {
+                    GoalKind::Spatial => (white, 2.0 * d),
+                    GoalKind::Cost { model } => (gait_color(model, 0.9), 1.5 * d),
+                };
+                fg::SceneEntity {
+                    timestamp: Some(fg_time(ns)),
+                    frame_id: world.clone(),
+                    id: set.name.clone(),
+                    spheres: set
+                        .sites
+                        .iter()
+                        .map(|p| fg::SpherePrimitive {
+                            pose: Some(fg_pose(p.x, p.y, p.z + r, Quaternion::IDENTITY)),
+                            size: Some(fg::Vector3 {
+                                x: 2.0 * r,
+                                y: 2.0 * r,
+                                z: 2.0 * r,
+                            }),
+                            color: Some(color),
+                        })
+                        .collect(),
+                    ..Default::default()
+                }
+            })
+            .collect();
         self.w.write_foxglove(
             "/strider/goals",
             ns,
@@ -474,39 +463,32 @@ impl Recorder {
         let tour = fg::PosesInFrame {
             timestamp: Some(fg_time(ns)),
             frame_id: world,
-            poses: m
-                .tour()
+            poses: s
+                .tour
                 .iter()
-                .map(|&(_, c)| {
-                    let (x, y, z) = Self::site(m, c);
-                    fg_pose(x, y, z, Quaternion::IDENTITY)
-                })
+                .map(|p| fg_pose(p.x, p.y, p.z, Quaternion::IDENTITY))
                 .collect(),
         };
         self.w.write_foxglove("/strider/tour", ns, &tour)
     }
 
-    fn grid(&mut self, m: &Mission, ns: i64) -> Result<(), LogError> {
+    fn grid(&mut self, layers: &Layers, d: f64, ns: i64) -> Result<(), LogError> {
         use fg::packed_element_field::NumericType as N;
-        let map = m.map();
-        let Some(rect) = map.known_bounds() else {
-            return Ok(());
-        };
-        let d = map.cell_size();
-        let models = m.models();
-        let ng = models.len();
+        let rect = layers.rect;
+        let models = &layers.models;
+        let nm = models.len();
         // f32 layers first (4-byte aligned), then the bytes.
         let mut fields = vec![
             field("elevation", 0, N::Float32),
             field("elevation_variance", 4, N::Float32),
         ];
-        for (g, name) in self.opts.gait_names.iter().enumerate().take(ng) {
+        for (g, m) in models.iter().enumerate() {
             let o = 8 + 12 * g as u32;
-            fields.push(field(&format!("cost_{name}"), o, N::Float32));
-            fields.push(field(&format!("variance_{name}"), o + 4, N::Float32));
-            fields.push(field(&format!("measured_{name}"), o + 8, N::Float32));
+            fields.push(field(&format!("cost_{}", m.name), o, N::Float32));
+            fields.push(field(&format!("variance_{}", m.name), o + 4, N::Float32));
+            fields.push(field(&format!("measured_{}", m.name), o + 8, N::Float32));
         }
-        let b = 8 + 12 * ng as u32;
+        let b = 8 + 12 * nm as u32;
         for (k, n) in ["red", "green", "blue", "alpha", "passability"]
             .iter()
             .enumerate()
@@ -514,37 +496,19 @@ impl Recorder {
             fields.push(field(n, b + k as u32, N::Uint8));
         }
         let stride = (b + 5).div_ceil(4) * 4;
-        let elev = map.elevation_raster(rect);
-        let var = map.variance_raster(rect);
-        let color = map.color_raster(rect);
-        let pass = map.passability_raster(rect);
-        let obs = map.observed_raster(rect);
-        let plan: Vec<Vec<f32>> = models.iter().map(|md| md.planning_costs(rect)).collect();
-        let class_var: Vec<HashMap<u32, f64>> = m
-            .model_updates()
-            .iter()
-            .map(|u| u.classes.iter().map(|c| (c.id.0, c.variance)).collect())
-            .collect();
         let mut data = Vec::with_capacity(rect.len() * stride as usize);
-        for (k, c) in rect.cells().enumerate() {
+        for k in 0..rect.len() {
             let start = data.len();
-            data.extend_from_slice(&elev[k].to_le_bytes());
-            data.extend_from_slice(&var[k].to_le_bytes());
-            for (g, md) in models.iter().enumerate() {
-                let v = md
-                    .planning_class(c)
-                    .and_then(|t| class_var[g].get(&t.0).copied())
-                    .map_or(f32::NAN, |v| v as f32);
-                let meas = md.cell_cost(c).map_or(f32::NAN, |cc| cc.cost as f32);
-                let cost = if obs[k] { plan[g][k] } else { f32::NAN };
-                data.extend_from_slice(&cost.to_le_bytes());
-                data.extend_from_slice(&v.to_le_bytes());
-                data.extend_from_slice(&meas.to_le_bytes());
+            data.extend_from_slice(&layers.elevation[k].to_le_bytes());
+            data.extend_from_slice(&layers.elevation_variance[k].to_le_bytes());
+            for m in models {
+                data.extend_from_slice(&m.cost[k].to_le_bytes());
+                data.extend_from_slice(&m.variance[k].to_le_bytes());
+                data.extend_from_slice(&m.measured[k].to_le_bytes());
             }
-            let rgb = color[k].map_or([0, 0, 0], |c| c.0);
-            data.extend_from_slice(&rgb);
-            data.push(if obs[k] { 255 } else { 0 });
-            data.push(pass[k] as u8);
+            data.extend_from_slice(&layers.color[k]);
+            data.push(if layers.observed[k] { 255 } else { 0 });
+            data.push(layers.passability[k]);
             data.resize(start + stride as usize, 0);
         }
         let msg = fg::Grid {
@@ -566,16 +530,19 @@ impl Recorder {
         self.w.write_foxglove("/strider/map", ns, &msg)
     }
 
-    fn costs(&mut self, m: &Mission, ns: i64) -> Result<(), LogError> {
+    fn costs(&mut self, measured: &[MeasuredCost], ns: i64) -> Result<(), LogError> {
         use fg::packed_element_field::NumericType as N;
-        let mut data = Vec::new();
-        for (g, md) in m.models().iter().enumerate() {
-            for &c in md.measured_cells() {
-                let Some(cc) = md.cell_cost(c) else { continue };
-                let (x, y, z) = Self::site(m, c);
-                for v in [x as f32, y as f32, z as f32, cc.cost as f32, g as f32] {
-                    data.extend_from_slice(&v.to_le_bytes());
-                }
+        let mut data = Vec::with_capacity(20 * measured.len());
+        for m in measured {
+            let p = m.at;
+            for v in [
+                p.x as f32,
+                p.y as f32,
+                p.z as f32,
+                m.cost as f32,
+                m.model as f32,
+            ] {
+                data.extend_from_slice(&v.to_le_bytes());
             }
         }
         let msg = fg::PointCloud {

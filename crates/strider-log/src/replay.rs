@@ -1,5 +1,5 @@
 //! Replay of a recorded ROS 2 log behind the [`Robot`] interface, so the very same
-//! [`strider_explore::Mission`] maps and learns from it ([`strider_explore::Mission::ingest`]).
+//! mission kernel maps and learns from it (`strider_explore::Mission::ingest`).
 //!
 //! Opening a log reads it once ([`LogReplay::open`]): every message on a configured topic is
 //! checked (encoding `cdr`, the expected schema) and the small ones are decoded — poses, gait,
@@ -42,9 +42,9 @@ use std::fs::File;
 use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
+use strider_core::GaitSpec;
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{GaitId, Point2, Point3, PointCloud, PoseStamped};
-use strider_explore::MissionParams;
 
 /// Counts of a replay.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -339,9 +339,9 @@ fn secs(ns: i64) -> f64 {
 }
 
 impl LogReplay {
-    /// Opens and checks a log (see the module docs); `params` gives the gait names and the
-    /// start gait.
-    pub fn open(path: &Path, cfg: &ReplayConfig, params: &MissionParams) -> Result<Self, LogError> {
+    /// Opens and checks a log (see the module docs); `gaits` are the robot's gaits (their names,
+    /// and the fastest is the start gait unless the configuration names one).
+    pub fn open(path: &Path, cfg: &ReplayConfig, gaits: &[GaitSpec]) -> Result<Self, LogError> {
         let mut roles: HashMap<String, Role> = HashMap::new();
         let mut add = |topic: &str, role: Role| -> Result<(), LogError> {
             if topic.is_empty() {
@@ -366,7 +366,7 @@ impl LogReplay {
         for (i, c) in cfg.clouds.iter().enumerate() {
             add(&c.topic, Role::Cloud(i as u8))?;
         }
-        let gait_names: Vec<&str> = params.gaits.iter().map(|g| g.name.as_str()).collect();
+        let gait_names: Vec<&str> = gaits.iter().map(|g| g.name.as_str()).collect();
         let default_gait = match &cfg.gait.default {
             Some(name) => GaitId(gait_names.iter().position(|g| g == name).ok_or_else(|| {
                 LogError::Config(format!(
@@ -374,7 +374,7 @@ impl LogReplay {
                     gait_names.join(", ")
                 ))
             })? as u8),
-            None => params.fastest_gait(),
+            None => strider_core::snapshot::fastest_gait(gaits),
         };
 
         // Pass 1: check everything, decode all but the clouds.

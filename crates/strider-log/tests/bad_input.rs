@@ -4,55 +4,27 @@
 //! odometry frame or from /tf). Never a panic.
 
 use std::path::{Path, PathBuf};
+use strider_core::GaitSpec;
 use strider_core::interface::{Robot, SensorSink};
 use strider_core::msg::ColoredPoint;
 use strider_core::{PointCloud, PoseStamped};
-use strider_explore::{GaitSpec, MissionParams, Rates, Strategy};
-use strider_learn::cost_model::CostModelParams;
-use strider_learn::gp::{GpParams, Kernel, KernelKind};
 use strider_log::ros2::{
     self, Header, MsgType, Odometry, Quaternion, StringMsg, TfMessage, Time, Transform,
     TransformStamped, UInt8Msg, Vector3,
 };
 use strider_log::{LogError, LogReplay, McapWriter, ReplayConfig};
 
-fn params() -> MissionParams {
-    let gp = GpParams {
-        kernel: Kernel {
-            kind: KernelKind::SquaredExponential,
-            lengthscales: vec![0.4],
-            signal_variance: 1.0,
+fn gaits() -> Vec<GaitSpec> {
+    vec![
+        GaitSpec {
+            name: "fast".into(),
+            v_max: 0.05,
         },
-        noise_variance: 0.25,
-        prior_mean: 1.0,
-    };
-    MissionParams {
-        map: Default::default(),
-        gaits: vec![
-            GaitSpec {
-                name: "fast".into(),
-                v_max: 0.05,
-            },
-            GaitSpec {
-                name: "tall".into(),
-                v_max: 0.0125,
-            },
-        ],
-        cost_model: CostModelParams::new(gp),
-        window_s: 5.0,
-        c_high: 20.0,
-        c_loss: 10.0,
-        dt_sample: 30.0,
-        dt_fallback: 30.0,
-        turning_baseline_s: 0.5,
-        bounds: None,
-        time_limit_s: 10.0,
-        strategy: Strategy::Gtsp,
-        rates: Rates::default(),
-        max_sites_per_goal: 16,
-        sensor_hfov_deg: vec![87.0],
-        seed: 1,
-    }
+        GaitSpec {
+            name: "tall".into(),
+            v_max: 0.0125,
+        },
+    ]
 }
 
 fn dir() -> PathBuf {
@@ -182,7 +154,7 @@ fn drain(r: &mut LogReplay) -> Result<Collect, LogError> {
 fn a_simple_log_replays_in_order_with_its_gait() {
     let p = dir().join("simple.mcap");
     simple_log(&p);
-    let mut r = LogReplay::open(&p, &config(""), &params()).unwrap();
+    let mut r = LogReplay::open(&p, &config(""), &gaits()).unwrap();
     assert!((r.duration_s() - 1.0).abs() < 1e-12);
     let c = drain(&mut r).unwrap();
     assert_eq!(c.poses.len(), 21);
@@ -199,7 +171,7 @@ fn missing_topics_are_named_with_the_topics_present() {
     let p = dir().join("simple-missing.mcap");
     simple_log(&p);
     let cfg = config("[[clouds]]\ntopic = \"/camera/points\"\norigin_frame = \"cam\"");
-    let e = LogReplay::open(&p, &cfg, &params())
+    let e = LogReplay::open(&p, &cfg, &gaits())
         .err()
         .unwrap()
         .to_string();
@@ -209,7 +181,7 @@ fn missing_topics_are_named_with_the_topics_present() {
         "lists what is there: {e}"
     );
     let cfg = config("[pose]\ntopic = \"/odom\"");
-    let e = LogReplay::open(&p, &cfg, &params())
+    let e = LogReplay::open(&p, &cfg, &gaits())
         .err()
         .unwrap()
         .to_string();
@@ -221,7 +193,7 @@ fn without_gait_and_motion_topics_the_fallbacks_are_reported() {
     let p = dir().join("simple-nogait.mcap");
     simple_log(&p);
     let cfg = config("motion_topic = \"\"\n[gait]\ntopic = \"\"\ndefault = \"fast\"");
-    let mut r = LogReplay::open(&p, &cfg, &params()).unwrap();
+    let mut r = LogReplay::open(&p, &cfg, &gaits()).unwrap();
     let c = drain(&mut r).unwrap();
     assert!(c.poses.iter().all(|p| p.gait.0 == 0));
     assert_eq!(r.warnings().len(), 2, "{:?}", r.warnings());
@@ -251,7 +223,7 @@ fn foreign_encodings_and_schemas_are_refused() {
         .unwrap();
         w.finish().unwrap();
     }
-    let e = LogReplay::open(&p, &config(""), &params())
+    let e = LogReplay::open(&p, &config(""), &gaits())
         .err()
         .unwrap()
         .to_string();
@@ -265,7 +237,7 @@ fn foreign_encodings_and_schemas_are_refused() {
     w.write_ros2("/robot/odom", MsgType::String, 0, &StringMsg::default())
         .unwrap();
     w.finish().unwrap();
-    let e = LogReplay::open(&p, &config(""), &params())
+    let e = LogReplay::open(&p, &config(""), &gaits())
         .err()
         .unwrap()
         .to_string();
@@ -332,7 +304,7 @@ fn uncoloured_log(path: &Path) {
 fn clouds_without_colour_are_an_error_or_gray_with_a_warning() {
     let p = dir().join("norgb.mcap");
     uncoloured_log(&p);
-    let mut r = LogReplay::open(&p, &config(""), &params()).unwrap();
+    let mut r = LogReplay::open(&p, &config(""), &gaits()).unwrap();
     let e = drain(&mut r).err().unwrap().to_string();
     assert!(
         e.contains("/robot/sensor_0/points") && e.contains("message 0") && e.contains("colour"),
@@ -342,7 +314,7 @@ fn clouds_without_colour_are_an_error_or_gray_with_a_warning() {
         "[[clouds]]\ntopic = \"/robot/sensor_0/points\"\norigin_frame = \"sensor_0\"\n\
          missing_rgb = \"gray\"",
     );
-    let mut r = LogReplay::open(&p, &cfg, &params()).unwrap();
+    let mut r = LogReplay::open(&p, &cfg, &gaits()).unwrap();
     let c = drain(&mut r).unwrap();
     assert_eq!(c.clouds[0].points[0].rgb, [128; 3]);
     assert!(
@@ -362,7 +334,7 @@ fn truncated_and_corrupted_files_are_errors_not_panics() {
     for cut in (0..bytes.len()).step_by(97).chain([bytes.len() - 1]) {
         let q = dir().join("cut.mcap");
         std::fs::write(&q, &bytes[..cut]).unwrap();
-        let r = LogReplay::open(&q, &config(""), &params());
+        let r = LogReplay::open(&q, &config(""), &gaits());
         let e = r.err().expect("a truncated file is refused").to_string();
         assert!(!e.is_empty());
     }
@@ -373,11 +345,11 @@ fn truncated_and_corrupted_files_are_errors_not_panics() {
         b[k] ^= 0x5a;
         let q = dir().join("flip.mcap");
         std::fs::write(&q, &b).unwrap();
-        if let Ok(mut r) = LogReplay::open(&q, &config(""), &params()) {
+        if let Ok(mut r) = LogReplay::open(&q, &config(""), &gaits()) {
             let _ = drain(&mut r);
         }
     }
-    let e = LogReplay::open(&dir().join("absent.mcap"), &config(""), &params())
+    let e = LogReplay::open(&dir().join("absent.mcap"), &config(""), &gaits())
         .err()
         .unwrap()
         .to_string();
@@ -391,7 +363,7 @@ fn truncation_names_the_position() {
     let bytes = std::fs::read(&p).unwrap();
     let q = dir().join("half.mcap");
     std::fs::write(&q, &bytes[..bytes.len() / 2]).unwrap();
-    let e = LogReplay::open(&q, &config(""), &params())
+    let e = LogReplay::open(&q, &config(""), &gaits())
         .err()
         .unwrap()
         .to_string();
@@ -441,7 +413,7 @@ fn unknown_gaits_bogus_stamps_and_bad_rotations() {
     let id = Quaternion::IDENTITY;
     let p = dir().join("gait.mcap");
     log_with(&p, &[(0, odom(0, "map", 0.5, id))], Some("gallop"));
-    let e = LogReplay::open(&p, &config(""), &params())
+    let e = LogReplay::open(&p, &config(""), &gaits())
         .err()
         .unwrap()
         .to_string();
@@ -461,7 +433,7 @@ fn unknown_gaits_bogus_stamps_and_bad_rotations() {
         ],
         None,
     );
-    let e = LogReplay::open(&p, &config(""), &params())
+    let e = LogReplay::open(&p, &config(""), &gaits())
         .err()
         .unwrap()
         .to_string();
@@ -484,7 +456,7 @@ fn unknown_gaits_bogus_stamps_and_bad_rotations() {
         ],
         None,
     );
-    let mut r = LogReplay::open(&p, &config(""), &params()).unwrap();
+    let mut r = LogReplay::open(&p, &config(""), &gaits()).unwrap();
     assert_eq!(r.stats().bad_poses, 1);
     assert_eq!(drain(&mut r).unwrap().poses.len(), 1);
 }
@@ -554,7 +526,7 @@ fn transform_chains() {
         let cfg = config(&format!(
             "{extra}\n[[clouds]]\ntopic = \"/cam/points\"\n[gait]\ntopic = \"\""
         ));
-        let mut r = LogReplay::open(&p, &cfg, &params()).unwrap();
+        let mut r = LogReplay::open(&p, &cfg, &gaits()).unwrap();
         let c = drain(&mut r).unwrap();
         let pose = c.poses.last().unwrap();
         assert!((pose.position.x - 11.0).abs() < 1e-9, "{pose:?}");
@@ -571,7 +543,7 @@ fn transform_chains() {
     let cfg = config("[[clouds]]\ntopic = \"/robot/sensor_0/points\"");
     let p2 = dir().join("simple-origin.mcap");
     simple_log(&p2);
-    let mut r = LogReplay::open(&p2, &cfg, &params()).unwrap();
+    let mut r = LogReplay::open(&p2, &cfg, &gaits()).unwrap();
     let e = drain(&mut r).err().unwrap().to_string();
     assert!(e.contains("origin_frame"), "{e}");
 }

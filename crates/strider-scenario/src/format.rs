@@ -72,8 +72,11 @@
 //! [sim]                     # SimParams; every key optional
 //! speed_noise = 0.05
 //!
-//! [strategy]                # free-form table for the strategies
-//! c_loss = 10.0
+//! [strategy.gtsp]           # parameters per strategy (`strider strategies` lists them);
+//! c_loss = 10.0             # a section per strategy, checked by the strategy's typed
+//!                           # parameters when it runs (unknown keys and wrong types fail)
+//! [strategy.rbcm-greedy]
+//! lambda_score_by_gait = { adaptive = 0.001, regular = 0.0005 }
 //!
 //! [start]
 //! x = 0.6

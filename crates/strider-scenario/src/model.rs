@@ -393,7 +393,8 @@ pub struct Scenario {
     pub map: MapParams,
     /// Simulator parameters.
     pub sim: SimParams,
-    /// Strategy parameters, kept as TOML until the strategies define their typed structs.
+    /// Parameters per strategy (and per command: `tours`, `navigate`, `learn-bench`): the
+    /// `[strategy.<name>]` sections, each checked by its strategy's typed parameters.
     pub strategy: toml::Table,
     /// Start pose.
     pub start: Pose2,

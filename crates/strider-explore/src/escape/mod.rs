@@ -36,15 +36,20 @@ pub mod haptic;
 pub mod reflexes;
 pub mod view;
 
-use crate::mission::{RunRecord, Termination};
+use crate::kernel::{
+    Actuators, Body, BodyParams, Every, GoalCounts, LOOK_AROUND_S, Manoeuvre, Mission,
+    MissionError, Strategy, Termination, look_around, site,
+};
 use force_predictor::{ForcePrediction, ForcePredictor, PredictorParams, describe};
 use goals::{Goal, GoalInputs, GoalKind, select_goal};
 use haptic::{BumperFilter, HapticModel, HapticParams};
 use reflexes::{Reflex, ReflexAction, ReflexInput, ReflexParams};
 use std::collections::BTreeSet;
-use std::time::Instant;
-use strider_core::interface::{MotionState, Robot, SensorSink};
-use strider_core::{Cell, Point2, PointCloud, Pose2, PoseStamped, Proprioception};
+use strider_core::interface::MotionState;
+use strider_core::snapshot::{
+    GoalKind as SnapGoalKind, GoalSet, MeasuredCost, ModelLayer, Quantity, Snapshot,
+};
+use strider_core::{Cell, Point2, Pose2, Proprioception};
 use strider_map::information_gain::model_information;
 use strider_map::params::MapParams;
 use strider_map::rect::WorldRect;
@@ -117,6 +122,8 @@ pub struct EscapeParams {
     pub exclusion_m: f64,
     /// A newly chosen goal this close to the current one (same rule) keeps the current path, m.
     pub same_goal_m: f64,
+    /// Spacing of the Eq. 8 candidate lattice, m (`None`: max(0.2 m, r_sensor/20)).
+    pub info_gain_spacing_m: Option<f64>,
 }
 
 impl EscapeParams {
@@ -153,10 +160,11 @@ impl EscapeParams {
             no_goal_grace_s: 10.0,
             exclusion_m: 0.15,
             same_goal_m: 0.25,
+            info_gain_spacing_m: None,
         }
     }
 
-    fn validate(&self) -> Result<(), EscapeError> {
+    fn validate(&self) -> Result<(), MissionError> {
         let pos = |v: f64| v.is_finite() && v > 0.0;
         if !(pos(self.v_max)
             && pos(self.control_hz)
@@ -166,23 +174,12 @@ impl EscapeParams {
             && pos(self.time_limit_s)
             && pos(self.map.cell_size))
         {
-            return Err(EscapeError::Params(
+            return Err(MissionError::Params(
                 "speeds, rates, cell size and time limit must be positive".into(),
             ));
         }
         Ok(())
     }
-}
-
-/// Errors of an escape mission.
-#[derive(Debug, thiserror::Error)]
-pub enum EscapeError {
-    /// The robot failed.
-    #[error("robot: {0}")]
-    Robot(String),
-    /// Invalid parameters.
-    #[error("escape parameters: {0}")]
-    Params(String),
 }
 
 /// One sample of the time series (C4 Figs. 11–12 and the explored area).
@@ -233,14 +230,11 @@ pub struct GoalEvent {
     pub y: f64,
 }
 
-/// What an escape mission did.
+/// What an escape mission did, beyond the kernel's [`RunRecord`](crate::kernel::RunRecord).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct EscapeLog {
     /// Strategy.
     pub mode: EscapeMode,
-    /// Termination, time, distance, trajectory and wall time.
-    #[serde(flatten)]
-    pub run: RunRecord,
     /// Explored area and cell states over time.
     pub timeline: Vec<TimelineSample>,
     /// Bumper contacts.
@@ -267,7 +261,6 @@ struct ContactAcc {
 /// The C4 escape mission (see the module docs).
 pub struct EscapeMission {
     params: EscapeParams,
-    map: ElevationMap,
     haptic: HapticModel,
     filter: BumperFilter,
     predictor: ForcePredictor,
@@ -277,35 +270,35 @@ pub struct EscapeMission {
     visited: Vec<Cell>,
     failed: Vec<Cell>,
     current: Option<Goal>,
-    pose: Option<PoseStamped>,
-    path: crate::keyframes::PathRecorder,
-    keyframes: crate::keyframes::Keyframes,
-    looking: Option<f64>,
+    looking: Option<Manoeuvre>,
     dij: Dijkstra,
     no_goal_since: Option<f64>,
     contact: Option<ContactAcc>,
     hard_contact: bool,
     t0: f64,
-    anchor_offsets: Vec<(i32, i32)>,
+    /// Module timers, set when the mission starts.
+    modules: Option<Modules>,
+    /// The goal is chosen afresh at the next tick.
+    replan: bool,
     log: EscapeLog,
+}
+
+/// The module timers of C4 Alg. 2.
+#[derive(Clone, Copy, Debug)]
+struct Modules {
+    /// Alg. 2 line 5: relearning the predictor.
+    learn: Every,
+    /// Lines 6–10: predictions applied, spatial goals.
+    view: Every,
+    /// The log's time series.
+    record: Every,
 }
 
 impl EscapeMission {
     /// A mission with an empty map and no predictor.
-    pub fn new(params: EscapeParams) -> Result<Self, EscapeError> {
+    pub fn new(params: EscapeParams) -> Result<Self, MissionError> {
         params.validate()?;
-        let mut map_params = params.map.clone();
-        // Eq. 8 on a stride lattice as in the `001` mission (decision 5), each candidate
-        // standing for stride² cells in the minimum cluster size.
-        let spacing = 0.2f64.max(map_params.r_sensor / 20.0);
-        let stride = ((spacing / map_params.cell_size).round() as u32).max(1);
-        if map_params.info_gain_stride <= 1 && stride > 1 {
-            map_params.info_gain_stride = stride;
-            let s2 = (stride * stride) as usize;
-            map_params.c_min_cells = map_params.c_min_cells.div_ceil(s2).max(1);
-        }
         Ok(Self {
-            map: ElevationMap::new(map_params),
             haptic: HapticModel::new(params.haptic.clone()),
             filter: BumperFilter::default(),
             predictor: ForcePredictor::new(params.predictor.clone()),
@@ -315,22 +308,16 @@ impl EscapeMission {
             visited: Vec::new(),
             failed: Vec::new(),
             current: None,
-            pose: None,
-            path: crate::keyframes::PathRecorder::default(),
-            keyframes: crate::keyframes::Keyframes::default(),
             looking: None,
             dij: Dijkstra::new(),
             no_goal_since: None,
             contact: None,
             hard_contact: false,
             t0: 0.0,
-            anchor_offsets: strider_core::grid::disc_offsets(
-                3.0 * params.map.r_robot,
-                params.map.cell_size,
-            ),
+            modules: None,
+            replan: true,
             log: EscapeLog {
                 mode: params.mode,
-                run: RunRecord::new(Termination::TimeLimit),
                 timeline: Vec::new(),
                 contacts: Vec::new(),
                 goals: Vec::new(),
@@ -342,9 +329,22 @@ impl EscapeMission {
         })
     }
 
-    /// The map.
-    pub fn map(&self) -> &ElevationMap {
-        &self.map
+    /// The kernel's body parameters for this mission: Eq. 8 on a stride lattice as in the
+    /// `001` mission (decision 5), each candidate standing for stride² cells in the minimum
+    /// cluster size.
+    pub fn body_params(params: &EscapeParams) -> BodyParams {
+        BodyParams {
+            map: crate::kernel::lattice_map_params(&params.map, params.info_gain_spacing_m),
+            sensor_hfov_deg: params.sensor_hfov_deg.clone(),
+            bounds: params.bounds,
+            time_limit_s: params.time_limit_s,
+        }
+    }
+
+    /// A mission of this strategy with `params`.
+    pub fn mission(params: EscapeParams) -> Result<Mission<Self>, MissionError> {
+        let body = Self::body_params(&params);
+        Mission::new(body, Self::new(params)?)
     }
 
     /// The haptic model.
@@ -376,102 +376,23 @@ impl EscapeMission {
         self.params.mode == EscapeMode::Escape
     }
 
-    fn robot_pose(&self) -> Option<Pose2> {
-        self.pose
+    fn robot_pose(&self, body: &Body) -> Option<Pose2> {
+        body.pose()
             .map(|p| Pose2::new(p.position.x, p.position.y, p.yaw))
     }
 
-    /// Runs C4 Alg. 2 until no goal is left or the time limit; `observe` is called about once
-    /// per simulated second.
-    pub fn run<R: Robot>(
-        &mut self,
-        robot: &mut R,
-        mut observe: impl FnMut(&EscapeMission),
-    ) -> Result<&EscapeLog, EscapeError> {
-        let wall = Instant::now();
-        let dt = 1.0 / self.params.control_hz;
-        self.t0 = robot.now();
-        let t0 = self.t0;
-        let (mut next_view, mut next_learn, mut next_record, mut next_observe) = (t0, t0, t0, t0);
-        let mut replan = true;
-        loop {
-            let t = robot.now();
-            if t - t0 >= self.params.time_limit_s {
-                self.log.run.termination = Termination::TimeLimit;
-                break;
-            }
-            let state = robot
-                .advance(dt, self)
-                .map_err(|e| EscapeError::Robot(e.to_string()))?;
-            let t = robot.now();
-            self.close_contact(t, false);
-            if self.learns()
-                && (t >= next_learn || (!self.predictor.is_learned() && !self.haptic.is_empty()))
-            {
-                self.relearn();
-                next_learn = t + 1.0 / self.params.predictor.learn_hz;
-            }
-            if t >= next_view {
-                self.update_view();
-                next_view = t + 1.0 / self.params.view_hz;
-                replan = true;
-            }
-            if t >= next_record {
-                self.record(t);
-                next_record = t + 1.0 / self.params.record_hz;
-            }
-            if t >= next_observe {
-                observe(self);
-                next_observe = t + 1.0;
-            }
-            if self.reflex.is_active() {
-                if self.run_reflex(robot, t, state) {
-                    replan = true;
-                } else {
-                    continue;
-                }
-            }
-            if let Some(until) = self.looking {
-                if t < until && !state.idle && !state.blocked {
-                    continue;
-                }
-                self.looking = None;
-                replan = true;
-            }
-            if self.learns()
-                && !state.idle
-                && let (Some(pose), Some(target)) = (self.robot_pose(), self.pushable_ahead())
-            {
-                // Walk straight at the obstacle (the nearest pushable cell ahead).
-                let yaw = (target.y - pose.y).atan2(target.x - pose.x);
-                robot.follow(&self.reflex.start_push(t, Pose2::new(pose.x, pose.y, yaw)));
-                self.log.pushes += 1;
-                continue;
-            }
-            if replan || state.idle || state.blocked {
-                replan = false;
-                if let Some(end) = self.decide(robot, t, state) {
-                    self.log.run.termination = end;
-                    break;
-                }
-            }
-        }
-        robot.follow(&[]);
-        let t = robot.now();
-        self.close_contact(t, true);
-        self.update_view();
-        self.record(t);
-        self.log.run.exploration_time_s = t - t0;
-        self.log.run.wall_s = wall.elapsed().as_secs_f64();
-        Ok(&self.log)
-    }
-
     /// Steps the running reflex; true when it finished.
-    fn run_reflex<R: Robot>(&mut self, robot: &mut R, t: f64, state: MotionState) -> bool {
-        let Some(pose) = self.robot_pose() else {
+    fn run_reflex(
+        &mut self,
+        body: &Body,
+        robot: &mut dyn Actuators,
+        t: f64,
+        state: MotionState,
+    ) -> bool {
+        let Some(pose) = self.robot_pose(body) else {
             return false;
         };
-        let near = self.obstacle_ahead(|_| true) || self.contact.is_some();
+        let near = self.obstacle_ahead(body, |_| true) || self.contact.is_some();
         let input = ReflexInput {
             t,
             pose,
@@ -500,7 +421,7 @@ impl EscapeMission {
                     // A spatial goal on a pushable obstacle is reached by pushing into it.
                     let r = 2.0 * self.params.view.r_robot;
                     if g.kind == GoalKind::Spatial
-                        && pose.position().dist(g.cell.center(self.map.cell_size())) <= r
+                        && pose.position().dist(g.cell.center(body.map().cell_size())) <= r
                     {
                         self.visited.push(g.cell);
                     }
@@ -514,52 +435,54 @@ impl EscapeMission {
     /// The nearest apparent obstacle cell within `approach_m` ahead of the bumper that the robot
     /// means to pass (predicted or known traversable) or to sample (the current obstacle goal's
     /// neighbourhood).
-    fn pushable_ahead(&self) -> Option<Point2> {
+    fn pushable_ahead(&self, body: &Body) -> Option<Point2> {
         let goal = self.current.filter(|g| g.kind != GoalKind::Spatial);
-        let clear = self.clear_radius_cells();
+        let clear = self.clear_radius_cells(body);
         let view = self.view.as_ref();
-        self.approach_corridor()
+        self.approach_corridor(body)
             .into_iter()
             .find(|&(c, _)| {
                 goal.is_some_and(|g| g.cell.dist_cells(c) <= clear)
                     || view.is_some_and(|v| v.is_traversable(c))
             })
-            .map(|(c, _)| c.center(self.map.cell_size()))
+            .map(|(c, _)| c.center(body.map().cell_size()))
     }
 
-    fn clear_radius_cells(&self) -> f64 {
-        (self.params.view.r_robot + self.params.reflex.bumper_half_width) / self.map.cell_size()
+    fn clear_radius_cells(&self, body: &Body) -> f64 {
+        (self.params.view.r_robot + self.params.reflex.bumper_half_width) / body.map().cell_size()
     }
 
     /// Whether an apparent obstacle cell accepted by `accept` lies in the bumper corridor within
     /// `approach_m` of the bumper.
-    fn obstacle_ahead(&self, accept: impl Fn(Cell) -> bool) -> bool {
-        self.approach_corridor().into_iter().any(|(c, _)| accept(c))
+    fn obstacle_ahead(&self, body: &Body, accept: impl Fn(Cell) -> bool) -> bool {
+        self.approach_corridor(body)
+            .into_iter()
+            .any(|(c, _)| accept(c))
     }
 
     /// The apparent obstacle cells in the bumper corridor within `approach_m` of the bumper,
     /// nearest first (empty without a pose).
-    fn approach_corridor(&self) -> Vec<(Cell, f64)> {
-        let Some(pose) = self.robot_pose() else {
+    fn approach_corridor(&self, body: &Body) -> Vec<(Cell, f64)> {
+        let Some(pose) = self.robot_pose(body) else {
             return Vec::new();
         };
         corridor_cells(
-            &self.map,
+            body.map(),
             pose,
             self.params.view.r_robot + self.params.reflex.approach_m,
             self.params.reflex.bumper_half_width,
-            self.map.params().rho_obstacle,
+            body.map().params().rho_obstacle,
         )
     }
 
     /// Alg. 2 line 5: P ← learn({(A(ν), F(ν))}).
-    fn relearn(&mut self) {
+    fn relearn(&mut self, body: &Body) {
         let samples: Vec<(Vec<f64>, f64)> = self
             .haptic
             .cells()
             .into_iter()
             .filter_map(|(c, h)| {
-                describe(&self.map, c, self.predictor.params()).map(|d| (d, h.force))
+                describe(body.map(), c, self.predictor.params()).map(|d| (d, h.force))
             })
             .collect();
         if let Ok(n) = self.predictor.learn(&samples)
@@ -570,30 +493,30 @@ impl EscapeMission {
     }
 
     /// Alg. 2 lines 6–10: predictions applied, spatial goals.
-    fn update_view(&mut self) {
-        self.map.update_passability();
+    fn update_view(&mut self, body: &mut Body) {
+        body.map_mut().update_passability();
         let pred = self.learns().then_some(&self.predictor);
         self.view = TravView::build(
-            &self.map,
+            body.map(),
             &self.haptic,
             pred,
             self.params.bounds.as_ref(),
             &self.params.view,
         );
         self.spatial.clear();
-        let (Some(view), Some(anchor)) = (self.view.as_ref(), self.anchor()) else {
+        let (Some(view), Some(anchor)) = (self.view.as_ref(), self.anchor(body)) else {
             return;
         };
         let reach =
-            Reachability::from_admissible(&self.map, anchor, view.rect, &view.goal_admissible());
+            Reachability::from_admissible(body.map(), anchor, view.rect, &view.goal_admissible());
         let bounds = self.params.bounds.as_ref();
-        let mut gain = information_gain(&self.map, &reach, bounds);
+        let mut gain = information_gain(body.map(), &reach, bounds);
         // Alg. 2 line 7 computes I_geom on every traversable cell, apparent obstacles learnt to
         // be traversable included. The Eq. 8 lattice (every `stride` cells) can miss a curtain
         // two cells thick, and the top of a pushable obstacle is exactly where the robot can
         // see past it: such cells are evaluated on a lattice of two cells (which any obstacle
         // two cells thick meets) in addition.
-        let lattice = self.map.params().info_gain_stride.max(1) as i32;
+        let lattice = body.map().params().info_gain_stride.max(1) as i32;
         let extra: Vec<(Cell, f64)> = (0..view.rect.len())
             .filter(|&k| view.obstacle[k].is_some() && view.traversable[k])
             .map(|k| view.rect.cell(k))
@@ -603,22 +526,22 @@ impl EscapeMission {
                     && !(c.i.rem_euclid(lattice) == 0 && c.j.rem_euclid(lattice) == 0)
                     && reach.is_goal_cell(*c)
             })
-            .map(|c| (c, model_information(&self.map, c, bounds)))
+            .map(|c| (c, model_information(body.map(), c, bounds)))
             .filter(|&(_, g)| g > 0.0)
             .collect();
         if !extra.is_empty() {
             gain.cells.extend(extra);
             gain.cells.sort_by_key(|&(c, _)| (c.j, c.i));
         }
-        self.spatial = cluster_information(&self.map, &gain, &reach, bounds);
-        let r = 2.0 * self.params.view.r_robot / self.map.cell_size();
+        self.spatial = cluster_information(body.map(), &gain, &reach, bounds);
+        let r = 2.0 * self.params.view.r_robot / body.map().cell_size();
         let visited = &self.visited;
         self.spatial
             .retain(|g| visited.iter().all(|v| v.dist_cells(g.cell) > r));
     }
 
-    fn record(&mut self, t: f64) {
-        let d = self.map.cell_size();
+    fn record(&mut self, body: &Body, t: f64) {
+        let d = body.map().cell_size();
         let states = self
             .view
             .as_ref()
@@ -626,7 +549,7 @@ impl EscapeMission {
             .unwrap_or_default();
         self.log.timeline.push(TimelineSample {
             t: t - self.t0,
-            explored_m2: self.map.observed_count() as f64 * d * d,
+            explored_m2: body.map().observed_count() as f64 * d * d,
             states,
             haptic_cells: self.haptic.len(),
         });
@@ -634,35 +557,39 @@ impl EscapeMission {
 
     /// The cell plans start from: the robot's cell when it is a goal cell of the view, else the
     /// nearest such cell within 3·r_robot, else the nearest admissible one.
-    fn anchor(&self) -> Option<Cell> {
-        let p = self.pose?;
+    fn anchor(&self, body: &Body) -> Option<Cell> {
         let view = self.view.as_ref()?;
-        let here = self.map.cell_at(p.position.x, p.position.y)?;
         let ok = |c: Cell| view.is_goal_cell(c);
         let adm = |c: Cell| view.rect.index(c).is_some_and(|k| view.admissible[k]);
-        crate::planner::nearest_where(here, &self.anchor_offsets, ok)
-            .or_else(|| crate::planner::nearest_where(here, &self.anchor_offsets, adm))
+        body.nearest_within_anchor_disc(ok)
+            .or_else(|| body.nearest_within_anchor_disc(adm))
     }
 
     /// Alg. 2 lines 11–24 for the current state; `Some` ends the exploration.
-    fn decide<R: Robot>(
+    fn decide(
         &mut self,
-        robot: &mut R,
+        body: &mut Body,
+        robot: &mut dyn Actuators,
         t: f64,
         state: MotionState,
     ) -> Option<Termination> {
-        let anchor = self.anchor()?;
+        let anchor = self.anchor(body)?;
         // The current goal reached?
         if let Some(g) = self.current {
             match g.kind {
                 GoalKind::Spatial => {
                     if anchor.dist_cells(g.cell) <= 1.5 || state.idle {
                         self.visited.push(g.cell);
-                        let r = 2.0 * self.params.view.r_robot / self.map.cell_size();
+                        let r = 2.0 * self.params.view.r_robot / body.map().cell_size();
                         self.spatial.retain(|s| s.cell.dist_cells(g.cell) > r);
                         self.current = None;
-                        if self.params.sensor_hfov_deg.iter().any(|&f| f < 360.0) {
-                            self.start_look_around(robot, t);
+                        if !body.sees_all_around()
+                            && let Some(p) = body.pose()
+                        {
+                            robot.follow(&look_around(&p, body.map().cell_size()));
+                            self.looking = Some(Manoeuvre {
+                                until: t + LOOK_AROUND_S,
+                            });
                             return None;
                         }
                     }
@@ -688,9 +615,9 @@ impl EscapeMission {
             predictor_learned: self.predictor.is_learned(),
             entropy_threshold: self.params.predictor.entropy_threshold,
             r_robot: self.params.view.r_robot,
-            reach: 2.0 * self.map.cell_size(),
+            reach: 2.0 * body.map().cell_size(),
             excluded: &self.failed,
-            exclusion_cells: self.params.exclusion_m / self.map.cell_size(),
+            exclusion_cells: self.params.exclusion_m / body.map().cell_size(),
             bounds: self.params.bounds.as_ref(),
         };
         let Some(goal) = select_goal(view, &inputs) else {
@@ -705,19 +632,19 @@ impl EscapeMission {
         // not re-commanded at every view update.
         if let Some(g) = self.current
             && g.kind == goal.kind
-            && g.cell.dist_cells(goal.cell) <= self.params.same_goal_m / self.map.cell_size()
+            && g.cell.dist_cells(goal.cell) <= self.params.same_goal_m / body.map().cell_size()
             && !state.idle
             && !state.blocked
         {
             return None;
         }
-        let d = self.map.cell_size();
+        let d = body.map().cell_size();
         let path = if goal.kind == GoalKind::Spatial {
             self.dij
                 .path_to(goal.cell)
                 .map(|p| smooth_path(&view.grid, &p))
         } else {
-            let r = self.clear_radius_cells() * d;
+            let r = self.clear_radius_cells(body) * d;
             view.cleared_grid(goal.cell, r).and_then(|g| {
                 let cost = self.dij.astar(&g, anchor, goal.cell).ok()?;
                 if !cost.is_finite() {
@@ -749,22 +676,8 @@ impl EscapeMission {
         None
     }
 
-    /// Turns once on the spot (four waypoints 0.75 cells around, a quarter turn apart).
-    fn start_look_around<R: Robot>(&mut self, robot: &mut R, t: f64) {
-        let Some(p) = self.pose else { return };
-        let r = 0.75 * self.map.cell_size();
-        let pts: Vec<Point2> = (1..=4)
-            .map(|k| {
-                let a = p.yaw + k as f64 * std::f64::consts::FRAC_PI_2;
-                Point2::new(p.position.x + r * a.cos(), p.position.y + r * a.sin())
-            })
-            .collect();
-        robot.follow(&pts);
-        self.looking = Some(t + 60.0);
-    }
-
     /// Ends the open contact when the bumper has been quiet for a second (or `force`).
-    fn close_contact(&mut self, t: f64, force: bool) {
+    fn close_contact(&mut self, body: &Body, t: f64, force: bool) {
         let Some(acc) = &self.contact else { return };
         if !force && t - acc.last <= 1.0 {
             return;
@@ -772,7 +685,7 @@ impl EscapeMission {
         let Some(acc) = self.contact.take() else {
             return;
         };
-        let d = self.map.cell_size();
+        let d = body.map().cell_size();
         let cells: Vec<Cell> = acc.cells.iter().map(|&(i, j)| Cell::new(i, j)).collect();
         let n = cells.len().max(1) as f64;
         let (mut x, mut y, mut f) = (0.0, 0.0, 0.0);
@@ -843,47 +756,163 @@ pub fn corridor_cells(
     out
 }
 
-impl SensorSink for EscapeMission {
-    fn on_pose(&mut self, pose: &PoseStamped) {
-        if !(pose.position.x.is_finite() && pose.position.y.is_finite() && pose.yaw.is_finite()) {
-            return;
+impl Strategy for EscapeMission {
+    fn name(&self) -> &'static str {
+        self.params.mode.name()
+    }
+
+    fn control_hz(&self) -> f64 {
+        self.params.control_hz
+    }
+
+    fn start(&mut self, _body: &mut Body, t0: f64) {
+        self.t0 = t0;
+        self.modules = Some(Modules {
+            learn: Every::new(self.params.predictor.learn_hz, t0),
+            view: Every::new(self.params.view_hz, t0),
+            record: Every::new(self.params.record_hz, t0),
+        });
+    }
+
+    /// Alg. 2: relearning, the view and spatial goals at their rates, the running reflex or
+    /// look-around to its end, a push at a pushable obstacle ahead, then a goal whenever the
+    /// view was rebuilt, the robot stopped, or a reflex ended.
+    fn tick(
+        &mut self,
+        body: &mut Body,
+        robot: &mut dyn Actuators,
+        state: &mut MotionState,
+        t: f64,
+    ) -> Option<Termination> {
+        let state = *state;
+        let mut m = self.modules?;
+        self.close_contact(body, t, false);
+        if self.learns()
+            && (m.learn.is_due(t) || (!self.predictor.is_learned() && !self.haptic.is_empty()))
+        {
+            self.relearn(body);
+            m.learn.ran(t);
         }
-        let (d, sample) = self.path.push(pose);
-        self.log.run.driven_m += d;
-        self.log.run.trajectory.extend(sample);
-        self.pose = Some(*pose);
+        if m.view.due(t) {
+            self.update_view(body);
+            self.replan = true;
+        }
+        if m.record.due(t) {
+            self.record(body, t);
+        }
+        self.modules = Some(m);
+        if self.reflex.is_active() {
+            if self.run_reflex(body, robot, t, state) {
+                self.replan = true;
+            } else {
+                return None;
+            }
+        }
+        if let Some(l) = self.looking {
+            if l.runs(t, state) {
+                return None;
+            }
+            self.looking = None;
+            self.replan = true;
+        }
+        if self.learns()
+            && !state.idle
+            && let (Some(pose), Some(target)) = (self.robot_pose(body), self.pushable_ahead(body))
+        {
+            // Walk straight at the obstacle (the nearest pushable cell ahead).
+            let yaw = (target.y - pose.y).atan2(target.x - pose.x);
+            robot.follow(&self.reflex.start_push(t, Pose2::new(pose.x, pose.y, yaw)));
+            self.log.pushes += 1;
+            return None;
+        }
+        if self.replan || state.idle || state.blocked {
+            self.replan = false;
+            return self.decide(body, robot, t, state);
+        }
+        None
     }
 
-    /// Scan keyframes ([`crate::keyframes`]).
-    fn wants_cloud(&self, sensor: u8) -> bool {
-        self.keyframes.wants(
-            sensor,
-            self.pose.as_ref(),
-            self.map.params(),
-            &self.params.sensor_hfov_deg,
-        )
+    fn finish(&mut self, body: &mut Body, t: f64) {
+        self.close_contact(body, t, true);
+        self.update_view(body);
+        self.record(body, t);
     }
 
-    fn on_cloud(&mut self, cloud: &PointCloud) {
-        self.map.integrate(cloud);
-        self.keyframes.record(cloud.sensor, self.pose.as_ref());
+    fn describe(&self, body: &Body, snap: &mut Snapshot) {
+        snap.goals.push(GoalSet {
+            name: "spatial_goals".into(),
+            kind: SnapGoalKind::Spatial,
+            sites: self.spatial.iter().map(|g| site(body, g.cell)).collect(),
+        });
+        let obstacle = self.current.filter(|g| g.kind != GoalKind::Spatial);
+        snap.goals.push(GoalSet {
+            name: "obstacle_goal".into(),
+            kind: SnapGoalKind::Cost { model: 0 },
+            sites: obstacle.map(|g| site(body, g.cell)).into_iter().collect(),
+        });
+        snap.tour = self
+            .current
+            .map(|g| site(body, g.cell))
+            .into_iter()
+            .collect();
+        let Some(layers) = snap.layers.as_mut() else {
+            return;
+        };
+        let n = layers.rect.len();
+        let mut layer = ModelLayer {
+            name: "force".into(),
+            quantity: Quantity::PushForce,
+            gait: None,
+            cost: vec![f32::NAN; n],
+            variance: vec![f32::NAN; n],
+            measured: vec![f32::NAN; n],
+        };
+        for (k, c) in layers.rect.cells().enumerate() {
+            if let Some(h) = self.haptic.get(c) {
+                layer.measured[k] = h.force as f32;
+            }
+            match self.view.as_ref().and_then(|v| v.obstacle(c)) {
+                Some(ObstacleState::Haptic { force, .. }) => layer.cost[k] = force as f32,
+                Some(ObstacleState::Predicted(p)) => {
+                    layer.cost[k] = p.mean as f32;
+                    layer.variance[k] = p.variance as f32;
+                }
+                _ => {}
+            }
+        }
+        layers.models.push(layer);
+        for (c, h) in self.haptic.cells() {
+            snap.measured.push(MeasuredCost {
+                at: site(body, c),
+                cost: h.force,
+                model: 0,
+            });
+        }
+    }
+
+    fn goal_counts(&self) -> GoalCounts {
+        GoalCounts {
+            spatial_goals: self.spatial.len(),
+            cost_goals: usize::from(self.current.is_some_and(|g| g.kind != GoalKind::Spatial)),
+            learning_set: self.predictor.len(),
+        }
     }
 
     /// The bumper stream: filtered, then fused into the apparent obstacle cells the bumper
     /// touches (C4 §4.2).
-    fn on_proprioception(&mut self, p: &Proprioception) {
-        let Some(pose) = self.robot_pose() else {
+    fn on_proprioception(&mut self, body: &Body, p: &Proprioception) {
+        let Some(pose) = self.robot_pose(body) else {
             return;
         };
         let z = self.filter.push(p.bumper_force, &self.params.haptic);
         self.hard_contact = z.is_some_and(|z| z > self.params.haptic.f_trav);
         let Some(z) = z else { return };
         let cells = corridor_cells(
-            &self.map,
+            body.map(),
             pose,
-            self.params.view.r_robot + self.map.cell_size(),
+            self.params.view.r_robot + body.map().cell_size(),
             self.params.reflex.contact_half_width,
-            self.map.params().rho_obstacle,
+            body.map().params().rho_obstacle,
         );
         if cells.is_empty() {
             return;

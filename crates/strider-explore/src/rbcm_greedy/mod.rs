@@ -42,19 +42,25 @@
 pub mod cost_map;
 pub mod goals;
 
-use crate::mission::{MissionError, MissionProgress, RunRecord, Termination};
+use crate::kernel::{
+    Actuators, Body, BodyParams, Every, GoalCounts, LOOK_AROUND_S, Manoeuvre as Deadline, Mission,
+    MissionError, Strategy, Termination, look_around,
+};
 use cost_map::{CostMap, PredictionCache};
 use goals::{Goal, GoalKind, best_cost_goal, best_spatial_goal, frontier_representatives};
 use std::time::Instant;
-use strider_core::interface::{MotionState, Robot, SensorSink};
-use strider_core::{Cell, GaitId, Point2, PointCloud, PoseStamped, Proprioception};
+use strider_core::interface::MotionState;
+use strider_core::snapshot::{
+    GoalKind as SnapGoalKind, GoalSet, MeasuredCost, ModelLayer, Quantity, Snapshot,
+};
+use strider_core::{Cell, GaitId, Point2, Point3, PoseStamped, Proprioception};
 use strider_learn::gp::{GpParams, HyperBounds};
 use strider_learn::rbcm::{Rbcm, RbcmParams};
 use strider_learn::signals::{RollVarianceCost, RollVarianceParams};
+use strider_map::MapParams;
 use strider_map::descriptors::shape_lab_descriptor;
 use strider_map::reachability::Reachability;
 use strider_map::rect::WorldRect;
-use strider_map::{ElevationMap, MapParams};
 use strider_plan::grid::{CostGrid, MeanEdgeDijkstra};
 
 /// Seconds without a traversable cell under the robot after which the exploration gives up.
@@ -149,12 +155,10 @@ pub struct CostRecord {
     pub cost: f64,
 }
 
-/// What an `rbcm-greedy` exploration did.
+/// What an `rbcm-greedy` exploration did, beyond the kernel's
+/// [`RunRecord`](crate::kernel::RunRecord).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct RbcmGreedyLog {
-    /// Termination, time, distance, trajectory and wall time.
-    #[serde(flatten)]
-    pub run: RunRecord,
     /// Every planning cycle.
     pub plans: Vec<PlanRecord>,
     /// Every learning pair stored.
@@ -172,41 +176,30 @@ pub struct RbcmGreedyLog {
     pub spatial_goals_reached: usize,
 }
 
-/// A manoeuvre that runs without planning until it ends or its deadline passes.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Manoeuvre {
-    /// Walking straight on over a reached cost goal.
-    Sampling { until: f64 },
-    /// Turning on the spot at a reached spatial goal.
-    LookAround { until: f64 },
-}
-
 /// The `000` explorer: map, committee, cost signal and goal state.
 pub struct RbcmGreedy {
     params: RbcmGreedyParams,
-    map: ElevationMap,
     reach: Reachability,
     rbcm: Rbcm,
     roll: RollVarianceCost,
     search: MeanEdgeDijkstra,
     cost_map: CostMap,
     cache: PredictionCache,
-    pose: Option<PoseStamped>,
-    path: crate::keyframes::PathRecorder,
     walking_since: Option<f64>,
     last_sample_t: f64,
     min_cost: f64,
     goal: Option<Goal>,
-    manoeuvre: Option<Manoeuvre>,
+    /// The sampling walk or look-around in progress.
+    manoeuvre: Option<Deadline>,
     visited: Vec<Point2>,
-    keyframes: crate::keyframes::Keyframes,
     no_cell_since: Option<f64>,
-    anchor_offsets: Vec<(i32, i32)>,
     /// Mcost cells the robot was refused entry to (its motion reported *blocked*).
     refused: Vec<Cell>,
     /// Cost goals reached: (time, centre).
     reached_cost: Vec<(f64, Point2)>,
     blocked_on_goal: usize,
+    /// The planning cycle's timer, set when the mission starts.
+    plan_every: Option<Every>,
     log: RbcmGreedyLog,
 }
 
@@ -241,32 +234,24 @@ impl RbcmGreedy {
         })
         .map_err(|e| bad(&e.to_string()))?;
         Ok(Self {
-            map: ElevationMap::new(params.map.clone()),
             reach: Reachability::default(),
             rbcm,
             roll,
             search: MeanEdgeDijkstra::new(),
             cost_map: CostMap::empty(params.mcost_cell),
             cache: PredictionCache::default(),
-            pose: None,
-            path: crate::keyframes::PathRecorder::default(),
             walking_since: None,
             last_sample_t: f64::NEG_INFINITY,
             min_cost: f64::INFINITY,
             goal: None,
             manoeuvre: None,
             visited: Vec::new(),
-            keyframes: crate::keyframes::Keyframes::default(),
             no_cell_since: None,
-            anchor_offsets: strider_core::grid::disc_offsets(
-                3.0 * params.map.r_robot,
-                params.map.cell_size,
-            ),
             refused: Vec::new(),
             reached_cost: Vec::new(),
             blocked_on_goal: 0,
+            plan_every: None,
             log: RbcmGreedyLog {
-                run: RunRecord::new(Termination::TimeLimit),
                 plans: Vec::new(),
                 samples: Vec::new(),
                 undescribed_samples: 0,
@@ -279,9 +264,20 @@ impl RbcmGreedy {
         })
     }
 
-    /// The elevation map built so far.
-    pub fn map(&self) -> &ElevationMap {
-        &self.map
+    /// The kernel's body parameters for this explorer's mission.
+    pub fn body_params(params: &RbcmGreedyParams) -> BodyParams {
+        BodyParams {
+            map: params.map.clone(),
+            sensor_hfov_deg: params.sensor_hfov_deg.clone(),
+            bounds: params.bounds,
+            time_limit_s: params.time_limit_s,
+        }
+    }
+
+    /// A mission of this explorer with `params`.
+    pub fn mission(params: RbcmGreedyParams) -> Result<Mission<Self>, MissionError> {
+        let body = Self::body_params(&params);
+        Mission::new(body, Self::new(params)?)
     }
 
     /// The learned committee.
@@ -306,22 +302,22 @@ impl RbcmGreedy {
 
     /// Builds Mcost for the current map and committee from the robot's current cell (for a
     /// final report after the exploration; planning does this every cycle).
-    pub fn refresh_cost_map(&mut self) {
-        if let Some(c) = self.robot_map_cell() {
-            self.rebuild_cost_map(c);
+    pub fn refresh_cost_map(&mut self, body: &mut Body) {
+        if let Some(c) = body.anchor_cell() {
+            self.rebuild_cost_map(body, c);
         }
     }
 
     /// Mtrv (passability, reachability from elevation-map cell `rc`) and Mcost without the
     /// refused cells; returns the wall times of the two parts, ms.
-    fn rebuild_cost_map(&mut self, rc: Cell) -> (f64, f64) {
+    fn rebuild_cost_map(&mut self, body: &mut Body, rc: Cell) -> (f64, f64) {
         let w = Instant::now();
-        self.map.update_passability();
-        self.reach.recompute(&self.map, rc);
+        body.map_mut().update_passability();
+        self.reach.recompute(body.map(), rc);
         let trv_ms = ms(w);
         let w = Instant::now();
         self.cost_map = CostMap::build(
-            &self.map,
+            body.map(),
             &self.reach,
             &self.rbcm,
             &mut self.cache,
@@ -340,115 +336,21 @@ impl RbcmGreedy {
         self.rbcm.experts().iter().any(|e| e.len() >= m_min)
     }
 
-    fn robot_position(&self) -> Option<Point2> {
-        self.pose
-            .map(|p| Point2::new(p.position.x, p.position.y))
-            .filter(|p| p.x.is_finite() && p.y.is_finite())
-    }
-
-    /// The elevation-map cell reachability starts from: the robot's cell when it is observed
-    /// and admissible, else the nearest such cell within 3·r_robot (a forward-looking sensor
-    /// never sees the ground under the robot at the start).
-    fn robot_map_cell(&self) -> Option<Cell> {
-        let p = self.robot_position()?;
-        let here = self.map.cell_at(p.x, p.y)?;
-        crate::planner::nearest_where(here, &self.anchor_offsets, |c| {
-            self.map.is_observed(c) && self.map.is_admissible(c)
-        })
-    }
-
-    fn sees_all_around(&self) -> bool {
-        self.params.sensor_hfov_deg.iter().all(|&f| f >= 360.0)
-    }
-
-    /// Runs the exploration until Eq. 16 yields no goal or the time limit.
-    pub fn run<R: Robot>(&mut self, robot: &mut R) -> Result<&RbcmGreedyLog, MissionError> {
-        self.run_observed(robot, |_| {})
-    }
-
-    /// [`RbcmGreedy::run`], reporting progress about once per simulated second.
-    pub fn run_observed<R: Robot>(
-        &mut self,
-        robot: &mut R,
-        mut progress: impl FnMut(&MissionProgress),
-    ) -> Result<&RbcmGreedyLog, MissionError> {
-        let wall = Instant::now();
-        let dt = 1.0 / self.params.control_hz;
-        let t0 = robot.now();
-        let mut next_plan = t0;
-        let mut next_report = t0;
-        robot.set_gait(self.params.gait);
-        let mut state = MotionState {
-            idle: true,
-            blocked: false,
-        };
-        loop {
-            let t = robot.now();
-            if t - t0 >= self.params.time_limit_s {
-                self.log.run.termination = Termination::TimeLimit;
-                break;
-            }
-            if state.idle {
-                self.walking_since = None;
-            } else if self.walking_since.is_none() {
-                self.walking_since = Some(t);
-            }
-            state = robot
-                .advance(dt, self)
-                .map_err(|e| MissionError::Robot(e.to_string()))?;
-            let t = robot.now();
-            if state.blocked {
-                self.refuse_ahead();
-            }
-            if let Some(m) = self.manoeuvre {
-                let until = match m {
-                    Manoeuvre::Sampling { until } | Manoeuvre::LookAround { until } => until,
-                };
-                if t < until && !state.idle && !state.blocked {
-                    continue;
-                }
-                self.manoeuvre = None;
-                robot.follow(&[]);
-                state.idle = true;
-            }
-            if t >= next_plan || state.idle || state.blocked {
-                next_plan = t + 1.0 / self.params.plan_hz;
-                if let Some(end) = self.plan(robot, t, state) {
-                    self.log.run.termination = end;
-                    break;
-                }
-                state.idle = false;
-                state.blocked = false;
-            }
-            if t >= next_report {
-                next_report = t + 1.0;
-                progress(&MissionProgress {
-                    time_s: t - t0,
-                    time_limit_s: self.params.time_limit_s,
-                    observed_cells: self.map.observed_count(),
-                    spatial_goals: usize::from(
-                        self.goal.is_some_and(|g| g.kind == GoalKind::Spatial),
-                    ),
-                    cost_goals: usize::from(self.goal.is_some_and(|g| g.kind == GoalKind::Cost)),
-                    learning_set: self.rbcm.len(),
-                });
-            }
-        }
-        robot.follow(&[]);
-        self.log.run.exploration_time_s = robot.now() - t0;
-        self.log.run.wall_s = wall.elapsed().as_secs_f64();
-        Ok(&self.log)
-    }
-
     /// One cycle of Alg. 1 (lines 2–10); `Some` when the exploration ends.
-    fn plan<R: Robot>(&mut self, robot: &mut R, t: f64, state: MotionState) -> Option<Termination> {
-        let Some(pos) = self.robot_position() else {
+    fn plan(
+        &mut self,
+        body: &mut Body,
+        robot: &mut dyn Actuators,
+        t: f64,
+        state: MotionState,
+    ) -> Option<Termination> {
+        let Some(pos) = body.position() else {
             return None; // no pose yet
         };
-        if self.map.scan_count() == 0 {
+        if body.map().scan_count() == 0 {
             return None; // nothing seen yet: no frontier can exist
         }
-        let Some(rc) = self.robot_map_cell() else {
+        let Some(rc) = body.anchor_cell() else {
             let since = *self.no_cell_since.get_or_insert(t);
             return (t - since >= NO_CELL_TIMEOUT_S).then_some(Termination::NoReachableGoals);
         };
@@ -461,22 +363,27 @@ impl RbcmGreedy {
                     GoalKind::Cost => {
                         self.log.cost_goals_reached += 1;
                         self.reached_cost.push((t, g.point));
-                        if self.start_sampling(robot, t, pos) {
+                        if self.start_sampling(body, robot, t, pos) {
                             return None;
                         }
                     }
                     GoalKind::Spatial => {
                         self.log.spatial_goals_reached += 1;
                         self.visited.push(g.point);
-                        if !self.sees_all_around() {
-                            self.start_look_around(robot, t, pos);
+                        if !body.sees_all_around()
+                            && let Some(pose) = body.pose()
+                        {
+                            robot.follow(&look_around(&pose, body.map().cell_size()));
+                            self.manoeuvre = Some(Deadline {
+                                until: t + LOOK_AROUND_S,
+                            });
                             return None;
                         }
                     }
                 }
             }
         }
-        let (trv_ms, inference_ms) = self.rebuild_cost_map(rc);
+        let (trv_ms, inference_ms) = self.rebuild_cost_map(body, rc);
         let w = Instant::now();
         let traversable_cells = self.cost_map.traversable_count();
         let start = self
@@ -527,10 +434,10 @@ impl RbcmGreedy {
         };
         let r_visited = 2.0 * self.params.map.r_robot;
         let reps = frontier_representatives(
-            &self.map,
+            body.map(),
             &self.reach,
             rc,
-            self.params.bounds.as_ref(),
+            body.bounds(),
             &self.visited,
             r_visited,
         );
@@ -568,12 +475,12 @@ impl RbcmGreedy {
 
     /// Remembers the Mcost cell one cell ahead of the robot as refused (the motion judge would
     /// not let the robot go on; Mtrv's step threshold may exceed what the legs can climb).
-    fn refuse_ahead(&mut self) {
-        let Some(p) = self.pose else { return };
+    fn refuse_ahead(&mut self, body: &Body) {
+        let Some(p) = body.pose() else { return };
         let d = self.params.mcost_cell;
         // The motion judge refuses the first elevation cell the centre would cross: within
         // one elevation cell (diagonally √2) ahead.
-        let r = self.map.cell_size() * std::f64::consts::SQRT_2;
+        let r = body.map().cell_size() * std::f64::consts::SQRT_2;
         let ahead = Point2::new(
             p.position.x + r * p.yaw.cos(),
             p.position.y + r * p.yaw.sin(),
@@ -591,9 +498,7 @@ impl RbcmGreedy {
         {
             self.blocked_on_goal = 0;
             match g.kind {
-                GoalKind::Cost => self
-                    .reached_cost
-                    .push((self.pose.map_or(0.0, |p| p.stamp), g.point)),
+                GoalKind::Cost => self.reached_cost.push((p.stamp, g.point)),
                 GoalKind::Spatial => self.visited.push(g.point),
             }
         }
@@ -601,8 +506,14 @@ impl RbcmGreedy {
 
     /// Walks straight on over traversable Mcost cells for one cost window from a reached cost
     /// goal; false when no direction is open.
-    fn start_sampling<R: Robot>(&mut self, robot: &mut R, t: f64, pos: Point2) -> bool {
-        let heading = self.pose.map_or(0.0, |p| p.yaw);
+    fn start_sampling(
+        &mut self,
+        body: &Body,
+        robot: &mut dyn Actuators,
+        t: f64,
+        pos: Point2,
+    ) -> bool {
+        let heading = body.pose().map_or(0.0, |p| p.yaw);
         let want = self.params.gait_speed * self.params.window_s;
         let step = 0.5 * self.params.mcost_cell;
         let mut best: Option<(f64, Point2)> = None;
@@ -638,25 +549,11 @@ impl RbcmGreedy {
                 robot.follow(&[end]);
                 // Generous: the walk at the gait's speed, plus turning towards it.
                 let until = t + 2.0 * self.params.window_s + 20.0;
-                self.manoeuvre = Some(Manoeuvre::Sampling { until });
+                self.manoeuvre = Some(Deadline { until });
                 true
             }
             _ => false,
         }
-    }
-
-    /// Turns once on the spot (four short steps around the current position).
-    fn start_look_around<R: Robot>(&mut self, robot: &mut R, t: f64, pos: Point2) {
-        let yaw = self.pose.map_or(0.0, |p| p.yaw);
-        let r = 0.75 * self.map.cell_size();
-        let pts: Vec<Point2> = (1..=4)
-            .map(|k| {
-                let a = yaw + k as f64 * std::f64::consts::FRAC_PI_2;
-                Point2::new(pos.x + r * a.cos(), pos.y + r * a.sin())
-            })
-            .collect();
-        robot.follow(&pts);
-        self.manoeuvre = Some(Manoeuvre::LookAround { until: t + 60.0 });
     }
 
     /// Stores a (descriptor, cost) pair in the committee.
@@ -694,19 +591,36 @@ pub fn carrot_waypoints(cells: &[Cell], cell_size: f64, carrot: f64, robot: Poin
     out
 }
 
-impl SensorSink for RbcmGreedy {
-    fn on_pose(&mut self, pose: &PoseStamped) {
-        if !(pose.position.x.is_finite() && pose.position.y.is_finite() && pose.yaw.is_finite()) {
-            return;
+impl Strategy for RbcmGreedy {
+    fn name(&self) -> &'static str {
+        "rbcm-greedy"
+    }
+
+    fn control_hz(&self) -> f64 {
+        self.params.control_hz
+    }
+
+    fn initial_gait(&self) -> Option<GaitId> {
+        Some(self.params.gait)
+    }
+
+    fn start(&mut self, _body: &mut Body, t0: f64) {
+        self.plan_every = Some(Every::new(self.params.plan_hz, t0));
+    }
+
+    fn before_advance(&mut self, _body: &Body, state: MotionState, t: f64) {
+        if state.idle {
+            self.walking_since = None;
+        } else if self.walking_since.is_none() {
+            self.walking_since = Some(t);
         }
-        let (d, sample) = self.path.push(pose);
-        self.log.run.driven_m += d;
-        self.log.run.trajectory.extend(sample);
-        self.pose = Some(*pose);
+    }
+
+    fn on_pose(&mut self, _body: &Body, pose: &PoseStamped) {
         self.roll.push_pose(pose);
     }
 
-    fn on_proprioception(&mut self, p: &Proprioception) {
+    fn on_proprioception(&mut self, body: &Body, p: &Proprioception) {
         let Some(s) = self.roll.push(p) else { return };
         // Only windows spent walking, one pair per sample period.
         let window_start = p.stamp - self.params.window_s;
@@ -717,10 +631,10 @@ impl SensorSink for RbcmGreedy {
             return;
         }
         self.last_sample_t = p.stamp;
-        let desc = self
-            .map
+        let map = body.map();
+        let desc = map
             .cell_at(s.position.x, s.position.y)
-            .and_then(|c| shape_lab_descriptor(&self.map, c, self.params.delta_desc));
+            .and_then(|c| shape_lab_descriptor(map, c, self.params.delta_desc));
         let Some(d) = desc else {
             self.log.undescribed_samples += 1;
             return;
@@ -735,18 +649,108 @@ impl SensorSink for RbcmGreedy {
         });
     }
 
-    fn wants_cloud(&self, sensor: u8) -> bool {
-        self.keyframes.wants(
-            sensor,
-            self.pose.as_ref(),
-            self.map.params(),
-            &self.params.sensor_hfov_deg,
-        )
+    /// A manoeuvre runs to its end; the planning cycle runs at `plan_hz` and whenever the
+    /// robot stopped or was refused.
+    fn tick(
+        &mut self,
+        body: &mut Body,
+        robot: &mut dyn Actuators,
+        state: &mut MotionState,
+        t: f64,
+    ) -> Option<Termination> {
+        if state.blocked {
+            self.refuse_ahead(body);
+        }
+        if let Some(m) = self.manoeuvre {
+            if m.runs(t, *state) {
+                return None;
+            }
+            self.manoeuvre = None;
+            robot.follow(&[]);
+            state.idle = true;
+        }
+        let mut every = self.plan_every?;
+        if every.is_due(t) || state.idle || state.blocked {
+            every.ran(t);
+            self.plan_every = Some(every);
+            if let Some(end) = self.plan(body, robot, t, *state) {
+                return Some(end);
+            }
+            state.idle = false;
+            state.blocked = false;
+        }
+        None
     }
 
-    fn on_cloud(&mut self, cloud: &PointCloud) {
-        self.map.integrate(cloud);
-        self.keyframes.record(cloud.sensor, self.pose.as_ref());
+    fn describe(&self, body: &Body, snap: &mut Snapshot) {
+        let map = body.map();
+        let at = |p: Point2| {
+            let z = map
+                .cell_at(p.x, p.y)
+                .and_then(|c| map.elevation(c))
+                .filter(|z| z.is_finite())
+                .unwrap_or(0.0) as f64;
+            Point3::new(p.x, p.y, z)
+        };
+        for (name, kind, model) in [
+            ("spatial_goal", GoalKind::Spatial, SnapGoalKind::Spatial),
+            ("cost_goal", GoalKind::Cost, SnapGoalKind::Cost { model: 0 }),
+        ] {
+            snap.goals.push(GoalSet {
+                name: name.into(),
+                kind: model,
+                sites: self
+                    .goal
+                    .filter(|g| g.kind == kind)
+                    .map(|g| at(g.point))
+                    .into_iter()
+                    .collect(),
+            });
+        }
+        snap.tour = self.goal.map(|g| at(g.point)).into_iter().collect();
+        let cell_size = snap.cell_size;
+        let Some(layers) = snap.layers.as_mut() else {
+            return;
+        };
+        // Mcost has its own resolution: each map cell takes the Mcost cell its centre is in.
+        let cm = &self.cost_map;
+        let n = layers.rect.len();
+        let mut layer = ModelLayer {
+            name: "rbcm".into(),
+            quantity: Quantity::RollVariance,
+            gait: Some(self.params.gait),
+            cost: Vec::with_capacity(n),
+            variance: Vec::with_capacity(n),
+            measured: vec![f32::NAN; n],
+        };
+        for c in layers.rect.cells() {
+            let k = cm
+                .cell_at(c.center(cell_size))
+                .and_then(|m| cm.rect.index(m));
+            let (mu, sd) = k.map_or((f64::NAN, f64::NAN), |k| (cm.mean[k], cm.std[k]));
+            layer.cost.push(mu as f32);
+            layer.variance.push((sd * sd) as f32);
+        }
+        for s in &self.log.samples {
+            let p = Point2::new(s.x, s.y);
+            if let Some(k) = map.cell_at(p.x, p.y).and_then(|c| layers.rect.index(c)) {
+                layer.measured[k] = s.cost as f32;
+            }
+            snap.measured.push(MeasuredCost {
+                at: at(p),
+                cost: s.cost,
+                model: 0,
+            });
+        }
+        layers.models.push(layer);
+    }
+
+    fn goal_counts(&self) -> GoalCounts {
+        GoalCounts {
+            spatial_goals: usize::from(self.goal.is_some_and(|g| g.kind == GoalKind::Spatial)),
+            cost_goals: usize::from(self.goal.is_some_and(|g| g.kind == GoalKind::Cost)),
+            learning_set: self.rbcm.len(),
+        }
     }
 }
 

@@ -211,7 +211,10 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
             robot,
             map,
             sim: SimParams::default(),
-            strategy: strategy_table(&[("lambda", 1.0), ("grid", 0.5)], &[]),
+            strategy: super::canvas::sections(
+                &["navigate"],
+                &strategy_table(&[("lambda", 1.0), ("grid", 0.5)], &[]),
+            ),
             start: Pose2::new(start.x, start.y, 0.0),
             bounds: Bounds {
                 min: Point2::new(r, r),

@@ -287,7 +287,7 @@ pub(crate) fn terrain(index: u8, name: &str, gaits: &[(&str, GaitResponse)]) -> 
     }
 }
 
-/// A strategy table from float and integer entries.
+/// A parameter table from float and integer entries.
 pub(crate) fn strategy_table(floats: &[(&str, f64)], ints: &[(&str, i64)]) -> toml::Table {
     let mut t = toml::Table::new();
     for &(k, v) in floats {
@@ -297,4 +297,13 @@ pub(crate) fn strategy_table(floats: &[(&str, f64)], ints: &[(&str, i64)]) -> to
         t.insert(k.to_string(), toml::Value::Integer(v));
     }
     t
+}
+
+/// The scenario's `[strategy]` table: one `[strategy.<name>]` section per strategy (or
+/// command) given `table`.
+pub(crate) fn sections(names: &[&str], table: &toml::Table) -> toml::Table {
+    names
+        .iter()
+        .map(|n| (n.to_string(), toml::Value::Table(table.clone())))
+        .collect()
 }

@@ -196,7 +196,10 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
                 proprio_noise: 0.2,
                 ..SimParams::default()
             },
-            strategy: strategy_table(&[("cost_window_s", 3.0)], &[]),
+            strategy: super::canvas::sections(
+                &["learn-bench"],
+                &strategy_table(&[("cost_window_s", 3.0)], &[]),
+            ),
             start: Pose2::new(start.x, start.y, 0.0),
             bounds: Bounds {
                 min: Point2::new(r, r),

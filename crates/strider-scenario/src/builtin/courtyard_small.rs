@@ -57,13 +57,13 @@ pub(super) fn map_params() -> MapParams {
     }
 }
 
-/// `001` Table 3 strategy values; `large` selects the right column.
+/// `001` Table 3 values for the `001` strategies (`gtsp`, `greedy`, `spatial-only`); `large`
+/// selects the right column. (Table 3's v_max is the robot profile's fastest gait.)
 pub(super) fn table3(large: bool) -> toml::Table {
     let pick = |small: f64, big: f64| if large { big } else { small };
-    strategy_table(
+    let t = strategy_table(
         &[
             ("delta_t", pick(5.0, 1.0)),
-            ("v_max", pick(0.05, 0.25)),
             ("c_loss", pick(10.0, 7.5)),
             ("c_high", 20.0),
             ("c_max", 20.0),
@@ -75,8 +75,6 @@ pub(super) fn table3(large: bool) -> toml::Table {
             ("d_s", 0.44),
             ("igng_eps_winner", 1e-3),
             ("igng_eps_neighbour", 1e-5),
-            ("igng_age_mature", 100.0),
-            ("igng_age_max", 50.0),
             ("dt_sample", pick(30.0, 12.0)),
             ("dt_fallback", pick(30.0, 3.0)),
         ],
@@ -86,9 +84,12 @@ pub(super) fn table3(large: bool) -> toml::Table {
             ("m_t", 10),
             ("n_dilate_steps", 3),
             ("n_dilate_size", 2),
+            ("igng_age_mature", 100),
+            ("igng_age_max", 50),
             ("igng_batch", 5000),
         ],
-    )
+    );
+    super::canvas::sections(&["gtsp", "greedy", "spatial-only"], &t)
 }
 
 fn looks() -> Vec<Look> {

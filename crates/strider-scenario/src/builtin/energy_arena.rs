@@ -1,7 +1,7 @@
 //! `energy-arena` (`003`): a 2 × 1.5 m flat floor at 0.05 m of smooth timber (0.63 W at
 //! 0.1 m/s) with a grey carpet band (1.21 W) lying across the straight lines from the base to the
 //! three waypoints; a timber gap at one end of the band leaves an energy-cheaper detour. The rover
-//! draws a 0.21 W hotel load; the benchmark runs 25 tours (`strategy.n_tours`). As in `003` §4
+//! draws a 0.21 W hotel load; the benchmark runs 25 tours (`strategy.tours.n_tours`). As in `003` §4
 //! the pose arrives at 30 Hz and the power at 10 Hz, both noisy.
 
 use rand::{RngExt, SeedableRng, rngs::ChaCha8Rng};
@@ -130,7 +130,7 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
             robot,
             map,
             sim: sim_params(),
-            strategy: strategy_table(&[], &[("n_tours", 25)]),
+            strategy: super::canvas::sections(&["tours"], &strategy_table(&[], &[("n_tours", 25)])),
             start: Pose2::new(base.x, base.y, 0.0),
             bounds: Bounds {
                 min: Point2::new(r, r),

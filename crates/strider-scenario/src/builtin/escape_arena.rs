@@ -161,7 +161,10 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
             robot,
             map,
             sim: SimParams::default(),
-            strategy: strategy_table(&[("t_trav", 0.12), ("f_trav", 2.0)], &[]),
+            strategy: super::canvas::sections(
+                &["escape", "rigid"],
+                &strategy_table(&[("f_trav", 2.0)], &[]),
+            ),
             start: Pose2::new(start.x, start.y, 0.0),
             bounds: Bounds {
                 min: Point2::new(r, r),

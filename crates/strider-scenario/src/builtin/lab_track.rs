@@ -218,17 +218,15 @@ fn generate_sized(
             robot,
             map,
             sim: SimParams::default(),
-            strategy: strategy_table(
+            strategy: rbcm_section(strategy_table(
                 &[
                     ("mcost_cell", 0.10),
                     ("cost_window_s", 10.0),
                     ("delta_desc", 0.15),
-                    ("h_max", 0.25),
                     ("r_spatial", 0.4),
                     // `000` rbcm-greedy (Alg. 1, Eq. 15–16).
                     ("delta_score", 0.5),
-                    ("lambda_score_adaptive", 0.001),
-                    ("lambda_score_regular", 0.0005),
+                    ("lambda_score", 0.001),
                     // Expert priors sized to roll variances of 0.005–0.1 rad²: σ_s 0.02,
                     // σ_n 0.005 (refitted per expert within bounds).
                     ("gp_lengthscale", 0.5),
@@ -236,7 +234,7 @@ fn generate_sized(
                     ("gp_noise_variance", 2.5e-5),
                 ],
                 &[("m_max", 50), ("m_min", 25)],
-            ),
+            )),
             start: Pose2::new(start.x, start.y, 0.0),
             bounds: Bounds {
                 min: Point2::new(r, r),
@@ -252,4 +250,14 @@ fn generate_sized(
         });
     }
     Err(gen_error(name, seed, "no connected layout found"))
+}
+
+/// The `[strategy]` table: `rbcm-greedy` with `000` Table I's λ_score per gait.
+fn rbcm_section(mut table: toml::Table) -> toml::Table {
+    let by_gait: toml::Table = [("adaptive", 0.001), ("regular", 0.0005)]
+        .iter()
+        .map(|&(g, v)| (g.to_string(), toml::Value::Float(v)))
+        .collect();
+    table.insert("lambda_score_by_gait".into(), toml::Value::Table(by_gait));
+    super::canvas::sections(&["rbcm-greedy"], &table)
 }

@@ -1,11 +1,12 @@
-//! The exploration mission of `001` Alg. 1 with navigation by Alg. 4.
+//! The exploration strategies of `001` Alg. 1 with navigation by Alg. 4 on the mission kernel:
+//! `gtsp` (spatial and cost-model goals ordered by an open GTSP tour), `greedy` (the same goals,
+//! cheapest next) and `spatial-only` (spatial goals, reactive gait).
 //!
-//! The mission drives a [`Robot`] in the robot's own time. Each module runs at its rate of
-//! `001` Tbl. 4 and sees only the latest outputs of the others, as the processes on the robot
-//! do: mapping whenever a scan arrives, cost measurement on every pose (20 Hz), spatial goals at
-//! 0.33 Hz, learning and cost-goal identification at 0.1 Hz, the tour and path at 1 Hz when the
-//! goal set changed or the current goal was reached. The robot is reached only through the
-//! [`Robot`] and [`SensorSink`] interface, so the same loop runs on a simulator or a robot.
+//! Each module runs at its rate of `001` Tbl. 4 and sees only the latest outputs of the others,
+//! as the processes on the robot do: mapping whenever a scan arrives (the kernel's body), cost
+//! measurement on every pose (20 Hz), spatial goals at 0.33 Hz, learning and cost-goal
+//! identification at 0.1 Hz, the tour and path at 1 Hz when the goal set changed or the current
+//! goal was reached.
 //!
 //! Decisions where the paper is silent:
 //! * a goal counts as reached when the robot is within 1.5 cells of its site or has finished
@@ -36,21 +37,29 @@
 //!   exploration ends (decision 25) when no reachable goal remains after the spatial and
 //!   learning modules have both run, or at the time limit.
 
+use crate::kernel::{
+    Actuators, Body, BodyParams, Every, GoalCounts, Manoeuvre, Mission, MissionError,
+    Strategy as KernelStrategy, Termination, look_around, site,
+};
 use crate::params::{MissionParams, Strategy};
 use crate::planner::{
-    CostMode, GoalKey, PlanningView, TourGoal, farthest_point_subsample, nearest_where, plan_tour,
+    CostMode, GoalKey, PlanningView, TourGoal, TourOrder, farthest_point_subsample, plan_tour,
 };
 use rayon::prelude::*;
+use std::collections::HashMap;
 use std::time::Instant;
-use strider_core::interface::{MotionState, Robot, SensorSink};
-use strider_core::{Cell, GaitId, Point2, PointCloud, PoseStamped};
+use strider_core::interface::MotionState;
+use strider_core::snapshot::{
+    GoalKind as SnapGoalKind, GoalSet, MeasuredCost, ModelLayer, Quantity, Snapshot,
+};
+use strider_core::{Cell, GaitId, Point2, PoseStamped};
 use strider_learn::cost_model::{CostGoal, GaitCostModel, ModelUpdate};
 use strider_learn::descriptor_field::DescriptorField;
 use strider_learn::signals::{FallbackTimer, InverseVelocityCost, TurningTime};
 use strider_map::descriptors::{TA_BINS, color_histograms};
 use strider_map::information_gain::GainCache;
 use strider_map::reachability::Reachability;
-use strider_map::{ElevationMap, SpatialGoal, cluster_information};
+use strider_map::{SpatialGoal, cluster_information};
 use strider_plan::grid::Dijkstra;
 
 /// Heading rate, rad/s, above which a pose tick counts as turning ([`TurningTime`]): cost
@@ -71,77 +80,9 @@ pub(crate) fn reflex_stuck(signal: &InverseVelocityCost, turns: &TurningTime) ->
     signal.is_stuck() && turns.in_window() == 0.0
 }
 
-/// Why a mission stopped.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-pub enum Termination {
-    /// Every model and the spatial explorer report no (reachable) goal.
-    GoalsCleared,
-    /// Goals remain but none has been reachable for a whole learning period.
-    NoReachableGoals,
-    /// The time limit was reached first.
-    TimeLimit,
-}
-
-/// Errors of a mission.
-#[derive(Debug, thiserror::Error)]
-pub enum MissionError {
-    /// The robot failed.
-    #[error("robot: {0}")]
-    Robot(String),
-    /// Invalid parameters.
-    #[error("mission parameters: {0}")]
-    Params(String),
-}
-
-/// One logged trajectory sample.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct TrajectorySample {
-    /// Robot time, s.
-    pub t: f64,
-    /// Position, m.
-    pub x: f64,
-    /// Position, m.
-    pub y: f64,
-    /// Gait in use.
-    pub gait: u8,
-}
-
-/// What every exploration run records, whatever its strategy ([`MissionLog`],
-/// [`crate::rbcm_greedy::RbcmGreedyLog`], [`crate::escape::EscapeLog`]); serialised flat into
-/// each log's JSON.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct RunRecord {
-    /// Why it stopped.
-    pub termination: Termination,
-    /// Robot time from start to termination, s.
-    pub exploration_time_s: f64,
-    /// Distance driven (from the pose stream), m.
-    pub driven_m: f64,
-    /// Trajectory at 2 Hz.
-    pub trajectory: Vec<TrajectorySample>,
-    /// Wall time of the run, s.
-    pub wall_s: f64,
-}
-
-impl RunRecord {
-    /// A run not started yet: `termination` until it stops, nothing driven.
-    pub fn new(termination: Termination) -> Self {
-        Self {
-            termination,
-            exploration_time_s: 0.0,
-            driven_m: 0.0,
-            trajectory: Vec::new(),
-            wall_s: 0.0,
-        }
-    }
-}
-
-/// What a mission did.
+/// What a `001` exploration did, beyond the kernel's [`RunRecord`](crate::kernel::RunRecord).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct MissionLog {
-    /// Termination, time, distance, trajectory and wall time.
-    #[serde(flatten)]
-    pub run: RunRecord,
     /// Wall-clock latency of each replan (planning grid, all-pairs, GTSP, path), ms.
     pub replan_ms: Vec<f64>,
     /// The parts of each replan, in the order of `replan_ms`.
@@ -207,23 +148,6 @@ pub struct PhaseWall {
     pub gait: f64,
 }
 
-/// A snapshot for progress displays.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MissionProgress {
-    /// Robot time since the start, s.
-    pub time_s: f64,
-    /// The mission's time limit, s.
-    pub time_limit_s: f64,
-    /// Observed map cells.
-    pub observed_cells: usize,
-    /// Current spatial goals.
-    pub spatial_goals: usize,
-    /// Current cost-model goals (all gaits).
-    pub cost_goals: usize,
-    /// Learning-set sizes summed over gaits.
-    pub learning_set: usize,
-}
-
 /// The sampling manoeuvre in progress (decision 24).
 #[derive(Clone, Copy, Debug)]
 struct Sampling {
@@ -231,10 +155,18 @@ struct Sampling {
     until: f64,
 }
 
-/// The exploration mission's state: the map, the per-gait models and the navigation state.
-pub struct Mission {
+/// The module timers of `001` Tbl. 4.
+#[derive(Clone, Copy, Debug)]
+struct Modules {
+    spatial: Every,
+    learning: Every,
+    tour: Every,
+}
+
+/// The `001` explorer's state: the per-gait models and the navigation state (the map is the
+/// kernel's body).
+pub struct TourExplorer {
     params: MissionParams,
-    map: ElevationMap,
     models: Vec<GaitCostModel>,
     signal: InverseVelocityCost,
     fallback: FallbackTimer,
@@ -246,17 +178,13 @@ pub struct Mission {
     goal_keys: Vec<GoalKey>,
     sampling: Option<Sampling>,
     gait: GaitId,
-    pose: Option<PoseStamped>,
     moving: bool,
     learned_once: bool,
     spatial_once: bool,
     log: MissionLog,
-    path: crate::keyframes::PathRecorder,
     unreachable_since: Option<f64>,
     /// Time spent turning over the stuck test's window and over a cost sample's support.
     turns: TurningTime,
-    /// Pose (x, y, yaw) of the last fused scan per sensor.
-    keyframes: crate::keyframes::Keyframes,
     /// The latest planning view (per-gait grids for Alg. 4, the merged grid for paths).
     view: Option<PlanningView>,
     /// What the view was built from: (fused scans, learning updates, cost mode).
@@ -268,10 +196,8 @@ pub struct Mission {
     goal_ms_since_replan: (f64, f64),
     /// Learning updates so far.
     learn_generation: u64,
-    /// Offsets of the 3·r_robot disc the anchor cell is searched in (nearest first).
-    anchor_offsets: Vec<(i32, i32)>,
-    /// End time of the look-around in progress.
-    looking: Option<f64>,
+    /// The look-around in progress.
+    looking: Option<Manoeuvre>,
     /// The last Alg. 6 outcome per gait model.
     updates: Vec<ModelUpdate>,
     /// Spatial goals reached so far: goals within 2·r_robot of one are not pursued again (what
@@ -284,13 +210,12 @@ pub struct Mission {
     gain: GainCache,
     /// The last tour's (goal, site) order, the warm start of the next GTSP solve.
     last_tour: Vec<(GoalKey, Cell)>,
-    /// Ingesting a recorded log ([`Mission::ingest`]): no spatial goals, planning or gait
-    /// choice.
-    passive: bool,
+    /// Module timers, set when the mission starts.
+    modules: Option<Modules>,
 }
 
-impl Mission {
-    /// A mission with an empty map and untrained models.
+impl TourExplorer {
+    /// An explorer with untrained models.
     pub fn new(params: MissionParams) -> Result<Self, MissionError> {
         if params.gaits.is_empty() || params.gaits.len() > u8::MAX as usize {
             return Err(MissionError::Params("the robot needs 1–255 gaits".into()));
@@ -322,21 +247,7 @@ impl Mission {
             })
             .collect::<Result<Vec<_>, _>>()?;
         let n = params.gaits.len();
-        // Start with the fastest gait.
-        let fastest = params.fastest_gait();
-        // Decision 5 allows a stride lattice for Eq. 11: candidates every max(0.2 m,
-        // r_sensor/20) (I_model sums over the whole r_sensor disc, so it varies on that scale),
-        // each standing for stride² cells in Alg. 3's minimum cluster size.
-        let mut map_params = params.map.clone();
-        let spacing = 0.2f64.max(map_params.r_sensor / 20.0);
-        let stride = ((spacing / map_params.cell_size).round() as u32).max(1);
-        if map_params.info_gain_stride <= 1 && stride > 1 {
-            map_params.info_gain_stride = stride;
-            let s2 = (stride * stride) as usize;
-            map_params.c_min_cells = (map_params.c_min_cells.div_ceil(s2)).max(1);
-        }
         Ok(Self {
-            map: ElevationMap::new(map_params),
             models,
             signal,
             fallback,
@@ -350,13 +261,12 @@ impl Mission {
             current: None,
             goal_keys: Vec::new(),
             sampling: None,
-            gait: fastest,
-            pose: None,
+            // Start with the fastest gait.
+            gait: params.fastest_gait(),
             moving: false,
             learned_once: false,
             spatial_once: false,
             log: MissionLog {
-                run: RunRecord::new(Termination::TimeLimit),
                 replan_ms: Vec::new(),
                 goals_to_tour_ms: Vec::new(),
                 replan_parts: Vec::new(),
@@ -370,15 +280,12 @@ impl Mission {
                 gain_evaluated: 0,
                 gain_updated: 0,
             },
-            path: crate::keyframes::PathRecorder::default(),
             unreachable_since: None,
-            keyframes: crate::keyframes::Keyframes::default(),
             turns,
             visited: Vec::new(),
             sampled: Vec::new(),
             gain: GainCache::new(GAIN_DZ),
             last_tour: Vec::new(),
-            passive: false,
             updates: vec![ModelUpdate::default(); n],
             looking: None,
             view: None,
@@ -386,17 +293,25 @@ impl Mission {
             spatial_key: None,
             goal_ms_since_replan: (0.0, 0.0),
             learn_generation: 0,
-            anchor_offsets: strider_core::grid::disc_offsets(
-                3.0 * params.map.r_robot,
-                params.map.cell_size,
-            ),
+            modules: None,
             params,
         })
     }
 
-    /// The map built so far.
-    pub fn map(&self) -> &ElevationMap {
-        &self.map
+    /// The kernel's body parameters for this explorer's mission.
+    pub fn body_params(params: &MissionParams) -> BodyParams {
+        BodyParams {
+            map: crate::kernel::lattice_map_params(&params.map, params.info_gain_spacing_m),
+            sensor_hfov_deg: params.sensor_hfov_deg.clone(),
+            bounds: params.bounds,
+            time_limit_s: params.time_limit_s,
+        }
+    }
+
+    /// A mission of this explorer with `params`.
+    pub fn mission(params: MissionParams) -> Result<Mission<Self>, MissionError> {
+        let body = Self::body_params(&params);
+        Mission::new(body, Self::new(params)?)
     }
 
     /// The per-gait cost models.
@@ -424,163 +339,67 @@ impl Mission {
         &self.log
     }
 
-    fn robot_cell(&self) -> Option<Cell> {
-        let p = self.pose?;
-        self.map.cell_at(p.position.x, p.position.y)
+    /// The current spatial goals (Alg. 3).
+    pub fn spatial_goals(&self) -> &[SpatialGoal] {
+        &self.spatial
     }
 
-    /// The cell plans and reachability start from: the robot's cell when it is observed and
-    /// admissible, else the nearest such cell within 3·r_robot (a forward-looking sensor never
-    /// sees the ground under the robot at the start).
-    fn anchor_cell(&self) -> Option<Cell> {
-        let here = self.robot_cell()?;
-        nearest_where(here, &self.anchor_offsets, |c| {
-            self.map.is_observed(c) && self.map.is_admissible(c)
-        })
+    /// The current cost-model goals with their gait index.
+    pub fn cost_goals(&self) -> &[(u8, CostGoal)] {
+        &self.cost_goals
     }
 
-    /// Runs Alg. 1 until every goal is cleared or the time limit.
-    ///
-    /// The loop's parallel parts (fusion, learning, all-pairs costs, and the simulator's ray
-    /// casting) use rayon's pool. Called from outside the pool, the calling thread sleeps
-    /// through each of them while the pool's idle threads spin between them; calling it on a
-    /// pool thread (`rayon::scope(|_| mission.run(robot))`, as `strider run` does) was 13 %
-    /// faster on two cores, with the same result.
-    pub fn run<R: Robot>(&mut self, robot: &mut R) -> Result<&MissionLog, MissionError> {
-        self.run_observed(robot, |_| {})
+    /// The last planned tour: goals in visiting order with their chosen sites.
+    pub fn tour(&self) -> &[(GoalKey, Cell)] {
+        &self.last_tour
     }
 
-    /// [`Mission::run`], calling `progress` about once per simulated second (for a progress
-    /// display; it cannot change the mission).
-    pub fn run_observed<R: Robot>(
-        &mut self,
-        robot: &mut R,
-        mut progress: impl FnMut(&MissionProgress),
-    ) -> Result<&MissionLog, MissionError> {
-        self.passive = false;
-        self.run_loop(robot, |_, p| progress(p))
+    /// The goal being pursued and its site.
+    pub fn current_goal(&self) -> Option<(GoalKey, Cell)> {
+        self.current
     }
 
-    /// [`Mission::run_observed`] with an observer that sees the whole mission (map, models,
-    /// goals, tour; see the accessors) at the same moments, e.g. to record it.
-    pub fn run_watched<R: Robot>(
-        &mut self,
-        robot: &mut R,
-        observe: impl FnMut(&Mission, &MissionProgress),
-    ) -> Result<&MissionLog, MissionError> {
-        self.passive = false;
-        self.run_loop(robot, observe)
+    /// The gait the explorer commands.
+    pub fn gait(&self) -> GaitId {
+        self.gait
     }
 
-    /// Ingests a recorded log behind the robot interface: the mapping (every delivered scan),
-    /// the cost measurement (every pose) and the learning (at `learning_hz`) of
-    /// [`Mission::run`], tick by tick as in the recorded run, without spatial goals, planning
-    /// or gait choice (commands to a log are pointless; the gait in use arrives with each
-    /// pose). Runs until the time limit: set it to the log's length.
-    pub fn ingest<R: Robot>(
-        &mut self,
-        robot: &mut R,
-        observe: impl FnMut(&Mission, &MissionProgress),
-    ) -> Result<&MissionLog, MissionError> {
-        self.passive = true;
-        let r = self.run_loop(robot, observe).map(|_| ());
-        self.passive = false;
-        r.map(|()| &self.log)
+    /// Learning updates (Alg. 6 over every gait) run so far.
+    pub fn learning_updates(&self) -> u64 {
+        self.learn_generation
     }
 
-    /// The loop of Alg. 1 behind [`Mission::run_observed`] and [`Mission::ingest`].
-    fn run_loop<R: Robot>(
-        &mut self,
-        robot: &mut R,
-        mut observe: impl FnMut(&Mission, &MissionProgress),
-    ) -> Result<&MissionLog, MissionError> {
-        let wall = Instant::now();
-        let mut next_report = robot.now();
-        let rates = self.params.rates;
-        let dt = 1.0 / rates.control_hz;
-        let t0 = robot.now();
-        let (mut next_spatial, mut next_learn, mut next_tour) = (t0, t0, t0);
-        robot.set_gait(self.gait);
-        let mut state = MotionState {
-            idle: true,
-            blocked: false,
-        };
-        loop {
-            let t = robot.now();
-            if t - t0 >= self.params.time_limit_s {
-                self.log.run.termination = Termination::TimeLimit;
-                break;
-            }
-            self.moving = !state.idle;
-            let w = Instant::now();
-            state = robot
-                .advance(dt, self)
-                .map_err(|e| MissionError::Robot(e.to_string()))?;
-            self.log.phase_wall_s.robot += w.elapsed().as_secs_f64();
-            let t = robot.now();
-            if state.idle {
-                self.signal.reset();
-            }
-            // Stuck reflex (decision 9), only while commanded to move.
-            let stuck = !state.idle && reflex_stuck(&self.signal, &self.turns);
-            let was = self.fallback.is_active(t);
-            if self.fallback.update(t, stuck) && !was {
-                self.log.stuck_events += 1;
-            }
-            if t >= next_spatial && !self.passive {
-                let w = Instant::now();
-                self.update_spatial();
-                self.log.phase_wall_s.spatial += w.elapsed().as_secs_f64();
-                next_spatial = t + 1.0 / rates.spatial_hz;
-            }
-            if t >= next_learn {
-                let w = Instant::now();
-                self.update_learning();
-                self.log.phase_wall_s.learning += w.elapsed().as_secs_f64();
-                next_learn = t + 1.0 / rates.learning_hz;
-            }
-            if t >= next_tour || state.idle || state.blocked {
-                let w = Instant::now();
-                let end = if self.passive {
-                    None
-                } else {
-                    self.decide(robot, t, state)
-                };
-                self.log.phase_wall_s.planning += w.elapsed().as_secs_f64();
-                if let Some(end) = end {
-                    self.log.run.termination = end;
-                    break;
-                }
-                next_tour = t + 1.0 / rates.tour_hz;
-                state.idle = false;
-            }
-            if t >= next_report {
-                next_report = t + 1.0;
-                let p = MissionProgress {
-                    time_s: t - t0,
-                    time_limit_s: self.params.time_limit_s,
-                    observed_cells: self.map.observed_count(),
-                    spatial_goals: self.spatial.len(),
-                    cost_goals: self.cost_goals.len(),
-                    learning_set: self.models.iter().map(|m| m.learning_set_len()).sum(),
-                };
-                observe(self, &p);
-            }
-            if self.passive {
-                continue;
-            }
-            let w = Instant::now();
-            let g = self.choose_gait(t);
-            self.log.phase_wall_s.gait += w.elapsed().as_secs_f64();
-            if g != self.gait {
-                self.gait = g;
-                robot.set_gait(g);
-            }
+    /// How many learning updates the planning view (the tour's costs and the gait choice)
+    /// reflects; `None` before the first view. It catches up with
+    /// [`learning_updates`](Self::learning_updates) at the next tour decision.
+    pub fn view_learning_updates(&self) -> Option<u64> {
+        self.view.as_ref().and(self.view_key).map(|k| k.1)
+    }
+
+    fn spatial_only(&self) -> bool {
+        self.params.strategy == Strategy::SpatialOnly
+    }
+
+    /// Measurement every tick: the cost signal restarts when the robot stands, and the stuck
+    /// reflex (decision 9) fires only while it is commanded to move.
+    fn measure_tick(&mut self, state: MotionState, t: f64) {
+        if state.idle {
+            self.signal.reset();
         }
-        robot.follow(&[]);
-        self.log.run.exploration_time_s = robot.now() - t0;
-        self.log.run.wall_s = wall.elapsed().as_secs_f64();
-        Ok(&self.log)
+        let stuck = !state.idle && reflex_stuck(&self.signal, &self.turns);
+        let was = self.fallback.is_active(t);
+        if self.fallback.update(t, stuck) && !was {
+            self.log.stuck_events += 1;
+        }
+    }
+
+    /// Learning and cost-goal identification when due.
+    fn learning_tick(&mut self, body: &mut Body, m: &mut Modules, t: f64) {
+        if m.learning.due(t) {
+            let w = Instant::now();
+            self.update_learning(body);
+            self.log.phase_wall_s.learning += w.elapsed().as_secs_f64();
+        }
     }
 
     /// Alg. 2 lines 3–5: passability, information gain, spatial goals (Alg. 3).
@@ -589,24 +408,25 @@ impl Mission {
     /// none of them changed since the last run (no scan fused: a slow gait moves less than a
     /// keyframe step between runs) the previous goals stand and nothing is recomputed (nor
     /// logged as a goal-identification time).
-    fn update_spatial(&mut self) {
+    fn update_spatial(&mut self, body: &mut Body) {
         let w = Instant::now();
-        self.map.update_passability();
-        let anchor = self.anchor_cell();
-        let key = (self.map.scan_count(), anchor, self.visited.len());
+        body.map_mut().update_passability();
+        let anchor = body.anchor_cell();
+        let map = body.map();
+        let key = (map.scan_count(), anchor, self.visited.len());
         if self.spatial_key == Some(key) {
             return;
         }
         self.spatial_key = Some(key);
         self.spatial.clear();
         if let Some(c) = anchor {
-            let reach = Reachability::compute(&self.map, c);
-            let bounds = self.params.bounds;
-            let gain = self.gain.compute(&self.map, &reach, bounds.as_ref());
+            let reach = Reachability::compute(map, c);
+            let bounds = body.bounds();
+            let gain = self.gain.compute(map, &reach, bounds);
             self.log.gain_evaluated += self.gain.last_evaluated();
             self.log.gain_updated += self.gain.last_updated();
-            self.spatial = cluster_information(&self.map, &gain, &reach, bounds.as_ref());
-            let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
+            self.spatial = cluster_information(map, &gain, &reach, bounds);
+            let r = 2.0 * map.params().r_robot / map.cell_size();
             let visited = &self.visited;
             self.spatial
                 .retain(|g| visited.iter().all(|v| v.dist_cells(g.cell) > r));
@@ -618,17 +438,18 @@ impl Mission {
     }
 
     /// Alg. 6 for every gait: descriptors, then each model's update.
-    fn update_learning(&mut self) {
+    fn update_learning(&mut self, body: &mut Body) {
         let w = Instant::now();
-        self.map.update_passability();
-        let Some(rect) = self.map.known_bounds() else {
+        body.map_mut().update_passability();
+        let map = body.map();
+        let Some(rect) = map.known_bounds() else {
             return;
         };
-        let raster = color_histograms(&self.map, rect, self.map.params().r_hist);
+        let raster = color_histograms(map, rect, map.params().r_hist);
         self.desc = DescriptorField::from_raster(&raster);
         self.cost_goals.clear();
         // The gaits' models are independent: update them side by side.
-        let (map, desc) = (&self.map, &self.desc);
+        let desc = &self.desc;
         let updates: Vec<_> = self
             .models
             .par_iter_mut()
@@ -653,7 +474,7 @@ impl Mission {
     }
 
     /// The goal set pursued by the strategy.
-    fn goals(&self) -> Vec<TourGoal> {
+    fn goals(&self, body: &Body) -> Vec<TourGoal> {
         let mut goals: Vec<TourGoal> = self
             .spatial
             .iter()
@@ -662,8 +483,9 @@ impl Mission {
                 sites: vec![s.cell],
             })
             .collect();
-        if self.params.strategy != Strategy::SpatialOnly {
-            let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
+        if !self.spatial_only() {
+            let map = body.map();
+            let r = 2.0 * map.params().r_robot / map.cell_size();
             for (g, goal) in &self.cost_goals {
                 let fresh = unsampled_sites(&goal.sites, *g, &self.sampled, r);
                 if fresh.is_empty() {
@@ -684,14 +506,15 @@ impl Mission {
     /// The index in `goals` of the goal being pursued, if it is still a goal: the same key, or
     /// (goal keys drift as the map and models change) a spatial goal within c_radius of the
     /// pursued site, or a cost goal of the same gait that still lists the pursued site.
-    fn committed_goal(&self, goals: &[TourGoal]) -> Option<usize> {
+    fn committed_goal(&self, body: &Body, goals: &[TourGoal]) -> Option<usize> {
         let (key, site) = self.current?;
         if let Some(i) = goals.iter().position(|g| g.key == key) {
             return Some(i);
         }
         match key {
             GoalKey::Spatial(_) => {
-                let r = self.map.params().c_radius / self.map.cell_size();
+                let map = body.map();
+                let r = map.params().c_radius / map.cell_size();
                 goals
                     .iter()
                     .enumerate()
@@ -710,17 +533,17 @@ impl Mission {
 
     /// Rebuilds the planning view unless the map (fused scans), the models (learning updates)
     /// and the cost mode are those it was built from.
-    fn refresh_view(&mut self, mode: CostMode) {
-        let key = (self.map.scan_count(), self.learn_generation, mode);
+    fn refresh_view(&mut self, body: &Body, mode: CostMode) {
+        let key = (body.map().scan_count(), self.learn_generation, mode);
         if self.view.is_some() && self.view_key == Some(key) {
             return;
         }
         self.view = PlanningView::build(
-            &self.map,
+            body.map(),
             &self.models,
             mode,
             self.params.c_loss,
-            self.params.bounds.as_ref(),
+            body.bounds(),
         );
         self.view_key = Some(key);
     }
@@ -728,34 +551,36 @@ impl Mission {
     /// The planner's module at `tour_hz`: Alg. 1 lines 11–25, then, when no new tour was
     /// planned, the planning view brought to the latest models (the gait choice reads it; a
     /// new tour has just rebuilt it). Returns the termination when the exploration is finished.
-    fn decide<R: Robot>(
+    fn decide(
         &mut self,
-        robot: &mut R,
+        body: &mut Body,
+        robot: &mut dyn Actuators,
         t: f64,
         state: MotionState,
     ) -> Option<Termination> {
-        let end = self.decide_tour(robot, t, state);
+        let end = self.decide_tour(body, robot, t, state);
         if end.is_none()
-            && self.params.strategy != Strategy::SpatialOnly
+            && !self.spatial_only()
             && self.view_key.is_some_and(|k| k.1 != self.learn_generation)
         {
-            self.map.update_passability();
-            self.refresh_view(CostMode::Learned);
+            body.map_mut().update_passability();
+            self.refresh_view(body, CostMode::Learned);
         }
         end
     }
 
     /// Alg. 1 lines 11–25. Returns the termination when the exploration is finished.
-    fn decide_tour<R: Robot>(
+    fn decide_tour(
         &mut self,
-        robot: &mut R,
+        body: &mut Body,
+        robot: &mut dyn Actuators,
         t: f64,
         state: MotionState,
     ) -> Option<Termination> {
-        let here = self.anchor_cell()?;
+        let here = body.anchor_cell()?;
         // A look-around runs to its end.
-        if let Some(until) = self.looking {
-            if t < until && !state.idle && !state.blocked {
+        if let Some(m) = self.looking {
+            if m.runs(t, state) {
                 return None;
             }
             self.looking = None;
@@ -774,10 +599,11 @@ impl Mission {
             .is_some_and(|(_, site)| here.dist_cells(site) <= 1.5 || state.idle);
         if reached && let Some((GoalKey::Spatial(c), _)) = self.current {
             self.visited.push(c);
-            let r = 2.0 * self.map.params().r_robot / self.map.cell_size();
+            let map = body.map();
+            let r = 2.0 * map.params().r_robot / map.cell_size();
             self.spatial.retain(|g| g.cell.dist_cells(c) > r);
-            if self.params.needs_look_around() {
-                self.start_look_around(robot, t);
+            if self.params.look_around && !body.sees_all_around() {
+                self.start_look_around(body, robot, t);
                 return None;
             }
             self.current = None;
@@ -787,17 +613,16 @@ impl Mission {
             self.log.samplings[gait as usize] += 1;
             self.sampled.push((gait, site));
             self.sampled.push((gait, here));
-            self.start_sampling(robot, t, GaitId(gait));
+            self.start_sampling(body, robot, t, GaitId(gait));
             return None;
         }
-        let goals = self.goals();
+        let goals = self.goals(body);
         let mut keys: Vec<GoalKey> = goals.iter().map(|g| g.key).collect();
         keys.sort_unstable();
         let changed = keys != self.goal_keys;
         if goals.is_empty() && self.learned_once && self.spatial_once {
             // Alg. 1 lines 21–24: no spatial goal and every model has a regressor and no goal.
-            let models_done = self.params.strategy == Strategy::SpatialOnly
-                || self.models.iter().all(|m| m.has_regressor());
+            let models_done = self.spatial_only() || self.models.iter().all(|m| m.has_regressor());
             if models_done {
                 return Some(Termination::GoalsCleared);
             }
@@ -807,20 +632,20 @@ impl Mission {
         }
         self.goal_keys = keys;
         let w = Instant::now();
-        let mode = if self.params.strategy == Strategy::SpatialOnly {
+        let mode = if self.spatial_only() {
             CostMode::Flat
         } else {
             CostMode::Learned
         };
-        self.map.update_passability();
+        body.map_mut().update_passability();
         let wv = Instant::now();
-        self.refresh_view(mode);
+        self.refresh_view(body, mode);
         let view_ms = wv.elapsed().as_secs_f64() * 1e3;
         // A replan re-orders the goals behind the one being pursued rather than abandoning it.
-        let commit = if reached {
+        let commit = if reached || !self.params.commit_to_goal {
             None
         } else {
-            self.committed_goal(&goals)
+            self.committed_goal(body, &goals)
         };
         let view = self.view.take();
         // Plans start where the planning grid lets the centre be: the map may call the robot's
@@ -829,14 +654,18 @@ impl Mission {
         // would look unreachable.
         let here = view
             .as_ref()
-            .and_then(|v| nearest_where(here, &self.anchor_offsets, |c| v.grid.is_admissible(c)))
+            .and_then(|v| body.nearest_in_anchor_disc(here, |c| v.grid.is_admissible(c)))
             .unwrap_or(here);
         let tour = view.as_ref().and_then(|v| {
             plan_tour(
                 v,
                 here,
                 &goals,
-                self.params.strategy == Strategy::Greedy,
+                if self.params.strategy == Strategy::Greedy {
+                    TourOrder::CheapestNext
+                } else {
+                    TourOrder::Gtsp(&self.params.solver)
+                },
                 self.params.seed,
                 &self.last_tour,
                 commit,
@@ -847,7 +676,7 @@ impl Mission {
         if let (Some(v), Some(tour)) = (&view, &tour) {
             for &(key, site) in &tour.order {
                 if let Some(path) = v.path(&mut self.dij, here, site) {
-                    let pts = match self.pose {
+                    let pts = match body.pose() {
                         Some(p) => v.drive_waypoints_from(&path, p.position.xy()),
                         None => v.drive_waypoints(&path),
                     };
@@ -890,29 +719,20 @@ impl Mission {
         None
     }
 
-    /// At a reached spatial goal the robot turns once on the spot (four waypoints 0.75 cells
-    /// around it, a quarter turn apart): Eq. 11 counts every observable cell within r_sensor
-    /// whatever the heading, which a camera with a limited field of view only honours if it
-    /// looks around.
-    fn start_look_around<R: Robot>(&mut self, robot: &mut R, t: f64) {
-        let Some(p) = self.pose else { return };
-        let r = 0.75 * self.map.cell_size();
-        let pts: Vec<Point2> = (1..=4)
-            .map(|k| {
-                let a = p.yaw + k as f64 * std::f64::consts::FRAC_PI_2;
-                Point2::new(p.position.x + r * a.cos(), p.position.y + r * a.sin())
-            })
-            .collect();
-        robot.follow(&pts);
-        // Generous: a full turn at the slowest plausible rate, plus the short steps.
-        self.looking = Some(t + 60.0);
+    /// At a reached spatial goal the robot turns once on the spot ([`look_around`]).
+    fn start_look_around(&mut self, body: &Body, robot: &mut dyn Actuators, t: f64) {
+        let Some(p) = body.pose() else { return };
+        robot.follow(&look_around(&p, body.map().cell_size()));
+        self.looking = Some(Manoeuvre {
+            until: t + crate::kernel::manoeuvres::LOOK_AROUND_S,
+        });
     }
 
     /// Decision 24: enforce `gait` and walk straight ahead (or the most open direction when
     /// the heading is blocked) for Δt_sample over cells where the centre may be.
-    fn start_sampling<R: Robot>(&mut self, robot: &mut R, t: f64, gait: GaitId) {
-        let Some(p) = self.pose else { return };
-        let d = self.map.cell_size();
+    fn start_sampling(&mut self, body: &Body, robot: &mut dyn Actuators, t: f64, gait: GaitId) {
+        let Some(p) = body.pose() else { return };
+        let d = body.map().cell_size();
         let v = self.params.gaits[gait.0 as usize].v_max;
         let len = (v * self.params.dt_sample).max(2.0 * d);
         let start = Point2::new(p.position.x, p.position.y);
@@ -927,7 +747,7 @@ impl Mission {
                     start.x + dx * s as f64 * 0.5 * d,
                     start.y + dy * s as f64 * 0.5 * d,
                 );
-                if !self.centre_may_be(q) {
+                if !self.centre_may_be(body, q) {
                     break;
                 }
                 pts.push(q);
@@ -952,26 +772,27 @@ impl Mission {
     /// True where the robot's centre may be: a finite cell of the latest planning grid (known,
     /// admissible, the footprint inside the exploration bounds), or before the first view an
     /// admissible map cell.
-    fn centre_may_be(&self, q: Point2) -> bool {
-        match (&self.view, self.map.cell_at(q.x, q.y)) {
+    fn centre_may_be(&self, body: &Body, q: Point2) -> bool {
+        let map = body.map();
+        match (&self.view, map.cell_at(q.x, q.y)) {
             (Some(v), Some(c)) => v.grid.is_admissible(c),
-            _ => self.map.is_admissible_at(q.x, q.y),
+            _ => map.is_admissible_at(q.x, q.y),
         }
     }
 
     /// Alg. 4: the enforced gait, the stuck reflex's rough gait, or the best gait at the robot.
-    fn choose_gait(&mut self, t: f64) -> GaitId {
+    fn choose_gait(&mut self, body: &Body, t: f64) -> GaitId {
         if let Some(s) = self.sampling {
             return s.gait;
         }
         if self.fallback.is_active(t) {
             return self.params.rough_gait();
         }
-        if self.params.strategy == Strategy::SpatialOnly {
+        if self.spatial_only() {
             // Reactive: the fastest gait unless stuck.
             return self.params.fastest_gait();
         }
-        let Some(here) = self.anchor_cell() else {
+        let Some(here) = body.anchor_cell() else {
             return self.gait;
         };
         // Alg. 4 line 6 on the per-gait grids of the latest planning view (rebuilt at every
@@ -984,55 +805,33 @@ impl Mission {
     }
 }
 
-/// What observers (recorders, visualisers) read of a running mission.
-impl Mission {
-    /// The current spatial goals (Alg. 3).
-    pub fn spatial_goals(&self) -> &[SpatialGoal] {
-        &self.spatial
+impl KernelStrategy for TourExplorer {
+    fn name(&self) -> &'static str {
+        self.params.strategy.name()
     }
 
-    /// The current cost-model goals with their gait index.
-    pub fn cost_goals(&self) -> &[(u8, CostGoal)] {
-        &self.cost_goals
+    fn control_hz(&self) -> f64 {
+        self.params.rates.control_hz
     }
 
-    /// The last planned tour: goals in visiting order with their chosen sites.
-    pub fn tour(&self) -> &[(GoalKey, Cell)] {
-        &self.last_tour
+    fn initial_gait(&self) -> Option<GaitId> {
+        Some(self.gait)
     }
 
-    /// The goal being pursued and its site.
-    pub fn current_goal(&self) -> Option<(GoalKey, Cell)> {
-        self.current
+    fn start(&mut self, _body: &mut Body, t0: f64) {
+        let r = self.params.rates;
+        self.modules = Some(Modules {
+            spatial: Every::new(r.spatial_hz, t0),
+            learning: Every::new(r.learning_hz, t0),
+            tour: Every::new(r.tour_hz, t0),
+        });
     }
 
-    /// The gait the mission commands.
-    pub fn gait(&self) -> GaitId {
-        self.gait
+    fn before_advance(&mut self, _body: &Body, state: MotionState, _t: f64) {
+        self.moving = !state.idle;
     }
 
-    /// Learning updates (Alg. 6 over every gait) run so far.
-    pub fn learning_updates(&self) -> u64 {
-        self.learn_generation
-    }
-
-    /// How many learning updates the planning view (the tour's costs and the gait choice)
-    /// reflects; `None` before the first view. It catches up with
-    /// [`learning_updates`](Self::learning_updates) at the next tour decision.
-    pub fn view_learning_updates(&self) -> Option<u64> {
-        self.view.as_ref().and(self.view_key).map(|k| k.1)
-    }
-}
-
-impl SensorSink for Mission {
-    fn on_pose(&mut self, pose: &PoseStamped) {
-        if !(pose.position.x.is_finite() && pose.position.y.is_finite()) {
-            return;
-        }
-        let (d, sample) = self.path.push(pose);
-        self.log.run.driven_m += d;
-        self.log.run.trajectory.extend(sample);
-        self.pose = Some(*pose);
+    fn on_pose(&mut self, body: &Body, pose: &PoseStamped) {
         self.turns.push(pose.stamp, pose.yaw);
         if !self.moving {
             return;
@@ -1045,7 +844,7 @@ impl SensorSink for Mission {
             return;
         }
         if let Some(s) = sample
-            && let Some(cell) = self.map.cell_at(s.position.x, s.position.y)
+            && let Some(cell) = body.map().cell_at(s.position.x, s.position.y)
             && let Some(m) = self.models.get_mut(s.gait.0 as usize)
             && let Ok(ins) = m.insert_measurement(cell, s.cost, &self.desc)
             && ins == strider_learn::cost_model::Insertion::Stored
@@ -1054,21 +853,141 @@ impl SensorSink for Mission {
         }
     }
 
-    /// Scan keyframes ([`crate::keyframes`]).
-    fn wants_cloud(&self, sensor: u8) -> bool {
-        self.keyframes.wants(
-            sensor,
-            self.pose.as_ref(),
-            self.map.params(),
-            &self.params.sensor_hfov_deg,
-        )
+    fn tick(
+        &mut self,
+        body: &mut Body,
+        robot: &mut dyn Actuators,
+        state: &mut MotionState,
+        t: f64,
+    ) -> Option<Termination> {
+        let mut m = self.modules?;
+        self.measure_tick(*state, t);
+        if m.spatial.due(t) {
+            let w = Instant::now();
+            self.update_spatial(body);
+            self.log.phase_wall_s.spatial += w.elapsed().as_secs_f64();
+        }
+        self.learning_tick(body, &mut m, t);
+        if m.tour.is_due(t) || state.idle || state.blocked {
+            let w = Instant::now();
+            let end = self.decide(body, robot, t, *state);
+            self.log.phase_wall_s.planning += w.elapsed().as_secs_f64();
+            if end.is_some() {
+                self.modules = Some(m);
+                return end;
+            }
+            m.tour.ran(t);
+            state.idle = false;
+        }
+        self.modules = Some(m);
+        let w = Instant::now();
+        let g = self.choose_gait(body, t);
+        self.log.phase_wall_s.gait += w.elapsed().as_secs_f64();
+        if g != self.gait {
+            self.gait = g;
+            robot.set_gait(g);
+        }
+        None
     }
 
-    fn on_cloud(&mut self, cloud: &PointCloud) {
-        let w = Instant::now();
-        self.map.integrate(cloud);
-        self.log.phase_wall_s.mapping += w.elapsed().as_secs_f64();
-        self.keyframes.record(cloud.sensor, self.pose.as_ref());
+    /// The mapping, cost measurement and learning of a live mission, tick by tick; the gait in
+    /// use arrives with each pose.
+    fn ingest_tick(&mut self, body: &mut Body, state: &mut MotionState, t: f64) {
+        let Some(mut m) = self.modules else { return };
+        self.measure_tick(*state, t);
+        self.learning_tick(body, &mut m, t);
+        if m.tour.is_due(t) || state.idle || state.blocked {
+            // The planner's slot of a live mission: nothing to plan, but the motion state is
+            // treated as a live mission treats it after a decision.
+            m.tour.ran(t);
+            state.idle = false;
+        }
+        self.modules = Some(m);
+    }
+
+    fn finish(&mut self, body: &mut Body, _t: f64) {
+        self.log.phase_wall_s.robot = body.robot_wall_s();
+        self.log.phase_wall_s.mapping = body.mapping_wall_s();
+    }
+
+    fn describe(&self, body: &Body, snap: &mut Snapshot) {
+        snap.goals.push(GoalSet {
+            name: "spatial_goals".into(),
+            kind: SnapGoalKind::Spatial,
+            sites: self.spatial.iter().map(|g| site(body, g.cell)).collect(),
+        });
+        for (g, spec) in self.params.gaits.iter().enumerate() {
+            let sites = self
+                .cost_goals
+                .iter()
+                .filter(|(gg, _)| *gg as usize == g)
+                .flat_map(|(_, goal)| goal.sites.iter())
+                .map(|&c| site(body, c))
+                .collect();
+            snap.goals.push(GoalSet {
+                name: format!("cost_goals_{}", spec.name),
+                kind: SnapGoalKind::Cost { model: g },
+                sites,
+            });
+        }
+        snap.tour = self.last_tour.iter().map(|&(_, c)| site(body, c)).collect();
+        let Some(layers) = snap.layers.as_mut() else {
+            return;
+        };
+        let rect = layers.rect;
+        for (g, md) in self.models.iter().enumerate() {
+            let plan = md.planning_costs(rect);
+            let class_var: HashMap<u32, f64> = self.updates[g]
+                .classes
+                .iter()
+                .map(|c| (c.id.0, c.variance))
+                .collect();
+            let mut layer = ModelLayer {
+                name: self.params.gaits[g].name.clone(),
+                quantity: Quantity::InverseVelocity {
+                    v_max: self.params.v_max(),
+                    c_high: self.params.c_high,
+                },
+                gait: Some(GaitId(g as u8)),
+                cost: Vec::with_capacity(rect.len()),
+                variance: Vec::with_capacity(rect.len()),
+                measured: Vec::with_capacity(rect.len()),
+            };
+            for (k, c) in rect.cells().enumerate() {
+                let v = md
+                    .planning_class(c)
+                    .and_then(|t| class_var.get(&t.0).copied())
+                    .map_or(f32::NAN, |v| v as f32);
+                let cost = if layers.observed[k] {
+                    plan[k]
+                } else {
+                    f32::NAN
+                };
+                layer.cost.push(cost);
+                layer.variance.push(v);
+                layer
+                    .measured
+                    .push(md.cell_cost(c).map_or(f32::NAN, |cc| cc.cost as f32));
+            }
+            layers.models.push(layer);
+            for &c in md.measured_cells() {
+                if let Some(cc) = md.cell_cost(c) {
+                    snap.measured.push(MeasuredCost {
+                        at: site(body, c),
+                        cost: cc.cost,
+                        model: g,
+                    });
+                }
+            }
+        }
+    }
+
+    fn goal_counts(&self) -> GoalCounts {
+        GoalCounts {
+            spatial_goals: self.spatial.len(),
+            cost_goals: self.cost_goals.len(),
+            learning_set: self.models.iter().map(|m| m.learning_set_len()).sum(),
+        }
     }
 }
 

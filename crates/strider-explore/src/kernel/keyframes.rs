@@ -4,7 +4,7 @@
 //! the last fused scan of that sensor. In a static world a scan from (almost) the same pose adds
 //! nothing to the map; skipping it lets a simulator skip producing it.
 
-use crate::mission::TrajectorySample;
+use super::record::TrajectorySample;
 use strider_core::{Point2, PoseStamped};
 use strider_map::MapParams;
 

@@ -1,0 +1,417 @@
+//! The mission kernel: one robot body, one run loop, and the [`Strategy`] that decides.
+//!
+//! A [`Mission`] drives a [`Robot`] in the robot's own time. Each control tick the robot
+//! advances by one control period, reporting its sensor stream: poses and fused scans go to
+//! the [`Body`] (pose, elevation map, keyframes, distance and trajectory), then to the
+//! strategy's own signals (cost measurement, haptics). After the tick the strategy runs the
+//! modules that are due at their rates ([`Every`]), decides goals, tour, path and gait, and
+//! commands the robot. The kernel stops the mission at the time limit or when the strategy
+//! reports a [`Termination`]. Every strategy reaches the robot only through [`Actuators`] and
+//! the body, so the same loop runs on a simulator, a robot or a recorded log.
+
+pub mod body;
+pub mod keyframes;
+pub mod manoeuvres;
+pub mod record;
+
+pub use body::{Body, BodyParams, lattice_map_params};
+pub use manoeuvres::{Every, LOOK_AROUND_S, Manoeuvre, look_around};
+pub use record::{
+    GoalCounts, MissionError, MissionProgress, RunRecord, Termination, TrajectorySample,
+};
+
+use std::time::Instant;
+use strider_core::interface::{MotionState, Robot, SensorSink};
+use strider_core::snapshot::{Layers, Snapshot};
+use strider_core::{Cell, GaitId, Point2, Point3, PointCloud, PoseStamped, Proprioception};
+
+/// The commands a strategy gives the robot.
+pub trait Actuators {
+    /// Current robot time, s.
+    fn now(&self) -> f64;
+    /// Replaces the path being followed (world waypoints, first one nearest the robot).
+    fn follow(&mut self, path: &[Point2]);
+    /// Selects the gait used from now on.
+    fn set_gait(&mut self, gait: GaitId);
+}
+
+/// An exploration method on the kernel: what it measures from the sensor stream, and the
+/// goals, tour, path and gait it decides from the body's state.
+pub trait Strategy {
+    /// The strategy's registry name (e.g. `gtsp`).
+    fn name(&self) -> &'static str;
+    /// The control tick's rate, Hz.
+    fn control_hz(&self) -> f64;
+    /// The gait commanded before the first tick (`None`: the robot's own).
+    fn initial_gait(&self) -> Option<GaitId> {
+        None
+    }
+    /// Called once before the first tick, at robot time `t0`.
+    fn start(&mut self, _body: &mut Body, _t0: f64) {}
+    /// Called before each advance with the motion state of the previous tick and its time.
+    fn before_advance(&mut self, _body: &Body, _state: MotionState, _t: f64) {}
+    /// A pose with a finite position and heading, after the body took it.
+    fn on_pose(&mut self, _body: &Body, _pose: &PoseStamped) {}
+    /// Proprioceptive readings.
+    fn on_proprioception(&mut self, _body: &Body, _p: &Proprioception) {}
+    /// One control tick at robot time `t` after the robot advanced: the modules that are due,
+    /// then the decisions. `state` persists across ticks (a strategy may clear its flags once
+    /// it acted on them). `Some` ends the mission.
+    fn tick(
+        &mut self,
+        body: &mut Body,
+        robot: &mut dyn Actuators,
+        state: &mut MotionState,
+        t: f64,
+    ) -> Option<Termination>;
+    /// One tick of ingesting a recorded log ([`Mission::ingest`]): measurement and learning
+    /// only, no goals, planning or commands. Default: nothing beyond the body's mapping.
+    fn ingest_tick(&mut self, _body: &mut Body, _state: &mut MotionState, _t: f64) {}
+    /// Called once after the last tick at robot time `t` (the robot is stopped).
+    fn finish(&mut self, _body: &mut Body, _t: f64) {}
+    /// The strategy's part of the progress display.
+    fn goal_counts(&self) -> GoalCounts;
+    /// The strategy's part of a [`Snapshot`]: its goals and tour and, when `snap.layers` is
+    /// present, its models' layers over `layers.rect` and the costs measured so far.
+    fn describe(&self, body: &Body, snap: &mut Snapshot);
+}
+
+/// A boxed strategy is a strategy: missions of strategies chosen at run time, and of
+/// strategies written outside this crate.
+impl<S: Strategy + ?Sized> Strategy for Box<S> {
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+    fn control_hz(&self) -> f64 {
+        (**self).control_hz()
+    }
+    fn initial_gait(&self) -> Option<GaitId> {
+        (**self).initial_gait()
+    }
+    fn start(&mut self, body: &mut Body, t0: f64) {
+        (**self).start(body, t0)
+    }
+    fn before_advance(&mut self, body: &Body, state: MotionState, t: f64) {
+        (**self).before_advance(body, state, t)
+    }
+    fn on_pose(&mut self, body: &Body, pose: &PoseStamped) {
+        (**self).on_pose(body, pose)
+    }
+    fn on_proprioception(&mut self, body: &Body, p: &Proprioception) {
+        (**self).on_proprioception(body, p)
+    }
+    fn tick(
+        &mut self,
+        body: &mut Body,
+        robot: &mut dyn Actuators,
+        state: &mut MotionState,
+        t: f64,
+    ) -> Option<Termination> {
+        (**self).tick(body, robot, state, t)
+    }
+    fn ingest_tick(&mut self, body: &mut Body, state: &mut MotionState, t: f64) {
+        (**self).ingest_tick(body, state, t)
+    }
+    fn finish(&mut self, body: &mut Body, t: f64) {
+        (**self).finish(body, t)
+    }
+    fn goal_counts(&self) -> GoalCounts {
+        (**self).goal_counts()
+    }
+    fn describe(&self, body: &Body, snap: &mut Snapshot) {
+        (**self).describe(body, snap)
+    }
+}
+
+/// A mission: the body, the strategy and the run loop (see the module docs).
+pub struct Mission<S> {
+    body: Body,
+    strategy: S,
+    /// The latest path commanded.
+    commanded: Vec<Point2>,
+    /// The latest gait commanded.
+    gait: Option<GaitId>,
+    /// Robot time of the latest tick, s.
+    now: f64,
+}
+
+impl<S: Strategy> Mission<S> {
+    /// A mission of `strategy` with a body of `body` parameters.
+    pub fn new(body: BodyParams, strategy: S) -> Result<Self, MissionError> {
+        if body.time_limit_s.is_nan() || body.time_limit_s <= 0.0 {
+            return Err(MissionError::Params(format!(
+                "time_limit_s must be positive, got {}",
+                body.time_limit_s
+            )));
+        }
+        let hz = strategy.control_hz();
+        if !(hz.is_finite() && hz > 0.0) {
+            return Err(MissionError::Params(format!(
+                "control_hz must be a positive number, got {hz}"
+            )));
+        }
+        Ok(Self {
+            body: Body::new(body),
+            strategy,
+            commanded: Vec::new(),
+            gait: None,
+            now: 0.0,
+        })
+    }
+
+    /// The body: map, pose, run record.
+    pub fn body(&self) -> &Body {
+        &self.body
+    }
+
+    /// The strategy.
+    pub fn strategy(&self) -> &S {
+        &self.strategy
+    }
+
+    /// The strategy, for its own post-mission work (e.g. a final cost map).
+    pub fn strategy_mut(&mut self) -> &mut S {
+        &mut self.strategy
+    }
+
+    /// The body and the strategy together.
+    pub fn parts_mut(&mut self) -> (&mut Body, &mut S) {
+        (&mut self.body, &mut self.strategy)
+    }
+
+    /// Termination, time, distance, trajectory and wall time.
+    pub fn record(&self) -> &RunRecord {
+        &self.body.record
+    }
+
+    /// The latest path commanded.
+    pub fn commanded_path(&self) -> &[Point2] {
+        &self.commanded
+    }
+
+    /// The latest gait commanded, if any.
+    pub fn commanded_gait(&self) -> Option<GaitId> {
+        self.gait
+    }
+
+    /// The progress display's figures at robot time `time_s` since the start.
+    pub fn progress(&self, time_s: f64) -> MissionProgress {
+        let c = self.strategy.goal_counts();
+        MissionProgress {
+            time_s,
+            time_limit_s: self.body.params().time_limit_s,
+            observed_cells: self.body.map().observed_count(),
+            spatial_goals: c.spatial_goals,
+            cost_goals: c.cost_goals,
+            learning_set: c.learning_set,
+        }
+    }
+
+    /// Runs the strategy until it ends the mission or the time limit.
+    ///
+    /// The loop's parallel parts (fusion, learning, all-pairs costs, and the simulator's ray
+    /// casting) use rayon's pool. Called from outside the pool, the calling thread sleeps
+    /// through each of them while the pool's idle threads spin between them; calling it on a
+    /// pool thread (`rayon::scope(|_| mission.run(robot))`, as `strider run` does) was 13 %
+    /// faster on two cores, with the same result.
+    pub fn run<R: Robot>(&mut self, robot: &mut R) -> Result<&RunRecord, MissionError> {
+        self.run_watched(robot, |_, _| {})
+    }
+
+    /// [`Mission::run`] with an observer called about once per simulated second with the
+    /// mission (body, strategy) and its progress, e.g. for a progress display or a recording;
+    /// it cannot change the mission.
+    pub fn run_watched<R: Robot>(
+        &mut self,
+        robot: &mut R,
+        observe: impl FnMut(&Self, &MissionProgress),
+    ) -> Result<&RunRecord, MissionError> {
+        self.run_loop(robot, false, observe)
+    }
+
+    /// Ingests a recorded log behind the robot interface: the body maps every delivered scan
+    /// and the strategy measures and learns ([`Strategy::ingest_tick`]) tick by tick as in the
+    /// recorded run, without goals, planning or commands (commands to a log are pointless).
+    /// Runs until the time limit: set it to the log's length.
+    pub fn ingest<R: Robot>(
+        &mut self,
+        robot: &mut R,
+        observe: impl FnMut(&Self, &MissionProgress),
+    ) -> Result<&RunRecord, MissionError> {
+        self.run_loop(robot, true, observe)
+    }
+
+    fn run_loop<R: Robot>(
+        &mut self,
+        robot: &mut R,
+        passive: bool,
+        mut observe: impl FnMut(&Self, &MissionProgress),
+    ) -> Result<&RunRecord, MissionError> {
+        let wall = Instant::now();
+        let dt = 1.0 / self.strategy.control_hz();
+        let limit = self.body.params().time_limit_s;
+        let t0 = robot.now();
+        let mut next_report = t0;
+        if !passive && let Some(g) = self.strategy.initial_gait() {
+            self.driver(robot).set_gait(g);
+        }
+        self.strategy.start(&mut self.body, t0);
+        let mut state = MotionState {
+            idle: true,
+            blocked: false,
+        };
+        loop {
+            let t = robot.now();
+            if t - t0 >= limit {
+                self.body.record.termination = Termination::TimeLimit;
+                break;
+            }
+            self.strategy.before_advance(&self.body, state, t);
+            let w = Instant::now();
+            let mut sink = Sink {
+                body: &mut self.body,
+                strategy: &mut self.strategy,
+            };
+            state = robot
+                .advance(dt, &mut sink)
+                .map_err(|e| MissionError::Robot(e.to_string()))?;
+            self.body.robot_wall_s += w.elapsed().as_secs_f64();
+            let t = robot.now();
+            self.now = t;
+            if passive {
+                self.strategy.ingest_tick(&mut self.body, &mut state, t);
+            } else {
+                let mut driver = Driver {
+                    robot: &mut *robot,
+                    commanded: &mut self.commanded,
+                    gait: &mut self.gait,
+                };
+                let end = self
+                    .strategy
+                    .tick(&mut self.body, &mut driver, &mut state, t);
+                if let Some(end) = end {
+                    self.body.record.termination = end;
+                    break;
+                }
+            }
+            if t >= next_report {
+                next_report = t + 1.0;
+                observe(self, &self.progress(t - t0));
+            }
+        }
+        if !passive {
+            self.driver(robot).follow(&[]);
+        }
+        let t = robot.now();
+        self.strategy.finish(&mut self.body, t);
+        self.body.record.exploration_time_s = t - t0;
+        self.body.record.wall_s = wall.elapsed().as_secs_f64();
+        Ok(&self.body.record)
+    }
+
+    /// The mission's state now (see [`Snapshot`]); `layers` adds the map and model layers over
+    /// the known part of the map (a pass over it) and the measured costs.
+    pub fn snapshot(&self, layers: bool) -> Snapshot {
+        let map = self.body.map();
+        let layers = layers
+            .then(|| map.known_bounds())
+            .flatten()
+            .map(|rect| Layers {
+                rect,
+                elevation: map.elevation_raster(rect),
+                elevation_variance: map.variance_raster(rect),
+                color: map
+                    .color_raster(rect)
+                    .into_iter()
+                    .map(|c| c.map_or([0, 0, 0], |c| c.0))
+                    .collect(),
+                observed: map.observed_raster(rect),
+                passability: map
+                    .passability_raster(rect)
+                    .into_iter()
+                    .map(|p| p as u8)
+                    .collect(),
+                models: Vec::new(),
+            });
+        let mut snap = Snapshot {
+            time_s: self.now,
+            strategy: self.strategy.name().to_string(),
+            cell_size: map.cell_size(),
+            robot: self.body.pose(),
+            gait: self.gait,
+            path: self.commanded.clone(),
+            goals: Vec::new(),
+            tour: Vec::new(),
+            layers,
+            measured: Vec::new(),
+        };
+        self.strategy.describe(&self.body, &mut snap);
+        snap
+    }
+
+    fn driver<'a, R: Robot>(&'a mut self, robot: &'a mut R) -> Driver<'a, R> {
+        Driver {
+            robot,
+            commanded: &mut self.commanded,
+            gait: &mut self.gait,
+        }
+    }
+}
+
+/// The centre of `cell` at the map's elevation there (0 where unknown), for snapshots.
+pub fn site(body: &Body, cell: Cell) -> Point3 {
+    let map = body.map();
+    let p = cell.center(map.cell_size());
+    let z = map.elevation(cell).filter(|z| z.is_finite()).unwrap_or(0.0) as f64;
+    Point3::new(p.x, p.y, z)
+}
+
+/// The robot's commands, remembered for observers.
+struct Driver<'a, R> {
+    robot: &'a mut R,
+    commanded: &'a mut Vec<Point2>,
+    gait: &'a mut Option<GaitId>,
+}
+
+impl<R: Robot> Actuators for Driver<'_, R> {
+    fn now(&self) -> f64 {
+        self.robot.now()
+    }
+
+    fn follow(&mut self, path: &[Point2]) {
+        self.robot.follow(path);
+        self.commanded.clear();
+        self.commanded.extend_from_slice(path);
+    }
+
+    fn set_gait(&mut self, gait: GaitId) {
+        self.robot.set_gait(gait);
+        *self.gait = Some(gait);
+    }
+}
+
+/// The sensor stream into the body, then the strategy.
+struct Sink<'a, S> {
+    body: &'a mut Body,
+    strategy: &'a mut S,
+}
+
+impl<S: Strategy> SensorSink for Sink<'_, S> {
+    fn on_pose(&mut self, pose: &PoseStamped) {
+        if self.body.take_pose(pose) {
+            self.strategy.on_pose(self.body, pose);
+        }
+    }
+
+    fn wants_cloud(&self, sensor: u8) -> bool {
+        self.body.wants_cloud(sensor)
+    }
+
+    fn on_cloud(&mut self, cloud: &PointCloud) {
+        self.body.fuse(cloud);
+    }
+
+    fn on_proprioception(&mut self, p: &Proprioception) {
+        self.strategy.on_proprioception(self.body, p);
+    }
+}

@@ -1,0 +1,375 @@
+//! The parameters of the `001` explorers (`gtsp`, `greedy`, `spatial-only`): `001` Table 3
+//! (left column) and Table 4 as defaults, our own design choices with today's behaviour.
+
+use super::RobotSpec;
+use super::typed::{ParamDoc, ParamError, StrategyParams, check};
+use crate::params::{MissionParams, Rates, Strategy, TourSolver};
+use serde::{Deserialize, Serialize};
+use strider_learn::cost_model::CostModelParams;
+use strider_learn::gp::{GpParams, Kernel, KernelKind};
+
+/// The `[strategy.gtsp]` (`greedy`, `spatial-only`) table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TourParams {
+    /// GP lengthscale l over the colour-histogram descriptor.
+    pub lengthscale: f64,
+    /// GP signal variance σ_s.
+    pub sigma_s: f64,
+    /// GP noise standard deviation σ_ε (noise variance σ_ε²).
+    pub sigma_eps: f64,
+    /// σ_sense of the measured-cost fusion.
+    pub sigma_sense: f64,
+    /// σ_0² of the measured-cost fusion.
+    pub sigma_0_sq: f64,
+    /// n_min: cells a terrain class needs before it is learned.
+    pub n_min: usize,
+    /// m_t: measurements per cell kept.
+    pub m_t: usize,
+    /// d_s: learning-set spacing in descriptor space.
+    pub d_s: f64,
+    /// c_max: the largest cost.
+    pub c_max: f64,
+    /// Erosion steps of the class masks (Alg. 10).
+    pub n_erode_steps: usize,
+    /// Dilation steps of the class masks (Alg. 10).
+    pub n_dilate_steps: usize,
+    /// Dilation size of the class masks (Alg. 10).
+    pub n_dilate_size: usize,
+    /// IGNG ε_winner.
+    pub igng_eps_winner: f64,
+    /// IGNG ε_neighbour.
+    pub igng_eps_neighbour: f64,
+    /// IGNG age_mature.
+    pub igng_age_mature: u32,
+    /// IGNG age_max.
+    pub igng_age_max: u32,
+    /// IGNG batch size.
+    pub igng_batch: usize,
+    /// Δt: the cost measurement window, s.
+    pub delta_t: f64,
+    /// c_high of the tanh bound (Eq. 20).
+    pub c_high: f64,
+    /// c_loss of the distance transform.
+    pub c_loss: f64,
+    /// Δt_sample: duration of the sampling manoeuvre, s.
+    pub dt_sample: f64,
+    /// Δt_fallback: duration of the stuck reflex, s.
+    pub dt_fallback: f64,
+    /// Baseline over which the heading rate tells turning from walking, s.
+    pub turning_baseline_s: f64,
+    /// Sampling sites kept per cost goal in the GTSP instance.
+    pub max_sites_per_goal: usize,
+    /// Spatial goal identification rate, Hz (Table 4).
+    pub spatial_hz: f64,
+    /// Learning and cost-goal identification rate, Hz (Table 4).
+    pub learning_hz: f64,
+    /// Tour and path planning rate, Hz (Table 4).
+    pub tour_hz: f64,
+    /// Control rate: gait choice and motion, Hz (Table 4).
+    pub control_hz: f64,
+    /// Wall-clock budget of one GTSP solve in a mission, s.
+    pub gtsp_time_limit_s: f64,
+    /// Restarts of one GTSP solve in a mission.
+    pub gtsp_max_trials: usize,
+    /// Iterations per restart of one GTSP solve in a mission.
+    pub gtsp_max_iterations: usize,
+    /// Spacing of the Eq. 11 candidate lattice, m (unset: max(0.2 m, r_sensor/20)).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub info_gain_spacing_m: Option<f64>,
+    /// Turn once on the spot at a reached spatial goal when the sensors do not see all around.
+    pub look_around: bool,
+    /// Keep the pursued goal first when the goal set changes before it is reached.
+    pub commit_to_goal: bool,
+}
+
+impl Default for TourParams {
+    fn default() -> Self {
+        let rates = Rates::default();
+        let solver = TourSolver::default();
+        Self {
+            lengthscale: 0.4,
+            sigma_s: 1.0,
+            sigma_eps: 0.5,
+            sigma_sense: 0.10,
+            sigma_0_sq: 1.0,
+            n_min: 25,
+            m_t: 10,
+            d_s: 0.44,
+            c_max: 20.0,
+            n_erode_steps: 2,
+            n_dilate_steps: 3,
+            n_dilate_size: 2,
+            igng_eps_winner: 1e-3,
+            igng_eps_neighbour: 1e-5,
+            igng_age_mature: 100,
+            igng_age_max: 50,
+            igng_batch: 5000,
+            delta_t: 5.0,
+            c_high: 20.0,
+            c_loss: 10.0,
+            dt_sample: 30.0,
+            dt_fallback: 30.0,
+            turning_baseline_s: 0.5,
+            max_sites_per_goal: 16,
+            spatial_hz: rates.spatial_hz,
+            learning_hz: rates.learning_hz,
+            tour_hz: rates.tour_hz,
+            control_hz: rates.control_hz,
+            gtsp_time_limit_s: solver.time_limit_s,
+            gtsp_max_trials: solver.max_trials,
+            gtsp_max_iterations: solver.max_iterations,
+            info_gain_spacing_m: None,
+            look_around: true,
+            commit_to_goal: true,
+        }
+    }
+}
+
+impl StrategyParams for TourParams {
+    const DOCS: &'static [ParamDoc] = &[
+        doc(
+            "lengthscale",
+            "",
+            "GP lengthscale l over the 9-colour histogram (Prágr22 Tbl. 3)",
+        ),
+        doc("sigma_s", "", "GP signal variance σ_s (Prágr22 Tbl. 3)"),
+        doc(
+            "sigma_eps",
+            "",
+            "GP noise standard deviation σ_ε (Prágr22 Tbl. 3)",
+        ),
+        doc(
+            "sigma_sense",
+            "",
+            "σ_sense of the per-cell cost fusion (Prágr22 Tbl. 3)",
+        ),
+        doc(
+            "sigma_0_sq",
+            "",
+            "σ_0² of the per-cell cost fusion (Prágr22 Tbl. 3)",
+        ),
+        doc(
+            "n_min",
+            "cells",
+            "cells a terrain class needs before it is learned (Prágr22 Tbl. 3)",
+        ),
+        doc("m_t", "", "measurements kept per cell (Prágr22 Tbl. 3)"),
+        doc(
+            "d_s",
+            "",
+            "learning-set spacing in descriptor space (Prágr22 Tbl. 3)",
+        ),
+        doc("c_max", "", "largest cost (Prágr22 Tbl. 3)"),
+        doc(
+            "n_erode_steps",
+            "",
+            "erosion steps of the class masks (Prágr22 Alg. 10)",
+        ),
+        doc(
+            "n_dilate_steps",
+            "",
+            "dilation steps of the class masks (Prágr22 Alg. 10)",
+        ),
+        doc(
+            "n_dilate_size",
+            "cells",
+            "dilation size of the class masks (Prágr22 Alg. 10)",
+        ),
+        doc("igng_eps_winner", "", "IGNG ε_winner (Prágr22 Tbl. 3)"),
+        doc(
+            "igng_eps_neighbour",
+            "",
+            "IGNG ε_neighbour (Prágr22 Tbl. 3)",
+        ),
+        doc("igng_age_mature", "", "IGNG age_mature (Prágr22 Tbl. 3)"),
+        doc("igng_age_max", "", "IGNG age_max (Prágr22 Tbl. 3)"),
+        doc("igng_batch", "", "IGNG batch size (Prágr22 Tbl. 3)"),
+        doc(
+            "delta_t",
+            "s",
+            "Δt, the cost measurement window (Prágr22 Tbl. 3)",
+        ),
+        doc(
+            "c_high",
+            "",
+            "c_high of the tanh bound, Eq. 20 (Prágr22 Tbl. 3)",
+        ),
+        doc(
+            "c_loss",
+            "",
+            "c_loss of the distance transform (Prágr22 Tbl. 3)",
+        ),
+        doc(
+            "dt_sample",
+            "s",
+            "Δt_sample, the sampling manoeuvre (Prágr22 Tbl. 3)",
+        ),
+        doc(
+            "dt_fallback",
+            "s",
+            "Δt_fallback, the stuck reflex (Prágr22 Tbl. 3)",
+        ),
+        doc(
+            "turning_baseline_s",
+            "s",
+            "baseline of the heading rate that tells turning from walking (ours)",
+        ),
+        doc(
+            "max_sites_per_goal",
+            "",
+            "sampling sites kept per cost goal in the GTSP (ours)",
+        ),
+        doc(
+            "spatial_hz",
+            "Hz",
+            "spatial goal identification (Prágr22 Tbl. 4)",
+        ),
+        doc(
+            "learning_hz",
+            "Hz",
+            "learning and cost goals (Prágr22 Tbl. 4)",
+        ),
+        doc("tour_hz", "Hz", "tour and path planning (Prágr22 Tbl. 4)"),
+        doc(
+            "control_hz",
+            "Hz",
+            "gait choice and motion (Prágr22 Tbl. 4)",
+        ),
+        doc(
+            "gtsp_time_limit_s",
+            "s",
+            "wall-clock budget of one GTSP solve (ours)",
+        ),
+        doc("gtsp_max_trials", "", "restarts of one GTSP solve (ours)"),
+        doc(
+            "gtsp_max_iterations",
+            "",
+            "iterations per restart of one GTSP solve (ours)",
+        ),
+        doc(
+            "info_gain_spacing_m",
+            "m",
+            "Eq. 11 candidate spacing; auto: max(0.2 m, r_sensor/20) (ours)",
+        ),
+        doc(
+            "look_around",
+            "",
+            "turn once on the spot at a reached spatial goal (ours)",
+        ),
+        doc(
+            "commit_to_goal",
+            "",
+            "keep the pursued goal first when the goals change (ours)",
+        ),
+    ];
+
+    fn validate(&self) -> Result<(), ParamError> {
+        for (k, v) in [
+            ("lengthscale", self.lengthscale),
+            ("sigma_s", self.sigma_s),
+            ("sigma_eps", self.sigma_eps),
+            ("sigma_sense", self.sigma_sense),
+            ("sigma_0_sq", self.sigma_0_sq),
+            ("d_s", self.d_s),
+            ("igng_eps_winner", self.igng_eps_winner),
+            ("igng_eps_neighbour", self.igng_eps_neighbour),
+            ("delta_t", self.delta_t),
+            ("c_loss", self.c_loss),
+            ("dt_sample", self.dt_sample),
+            ("dt_fallback", self.dt_fallback),
+            ("turning_baseline_s", self.turning_baseline_s),
+            ("spatial_hz", self.spatial_hz),
+            ("learning_hz", self.learning_hz),
+            ("tour_hz", self.tour_hz),
+            ("gtsp_time_limit_s", self.gtsp_time_limit_s),
+        ] {
+            check::positive(k, v)?;
+        }
+        check::within("c_high", self.c_high, 1.0, 1e6)?;
+        check::within("c_max", self.c_max, 1.0, 1e6)?;
+        check::within("control_hz", self.control_hz, 1.0, 1000.0)?;
+        check::count("n_min", self.n_min, 1, 1_000_000)?;
+        check::count("m_t", self.m_t, 1, 10_000)?;
+        check::count("n_erode_steps", self.n_erode_steps, 0, 100)?;
+        check::count("n_dilate_steps", self.n_dilate_steps, 0, 100)?;
+        check::count("n_dilate_size", self.n_dilate_size, 0, 100)?;
+        check::count("igng_batch", self.igng_batch, 1, 10_000_000)?;
+        check::count("max_sites_per_goal", self.max_sites_per_goal, 1, 1000)?;
+        check::count("gtsp_max_trials", self.gtsp_max_trials, 1, 1000)?;
+        check::count(
+            "gtsp_max_iterations",
+            self.gtsp_max_iterations,
+            1,
+            10_000_000,
+        )?;
+        check::positive_opt("info_gain_spacing_m", self.info_gain_spacing_m)?;
+        Ok(())
+    }
+}
+
+const fn doc(key: &'static str, unit: &'static str, doc: &'static str) -> ParamDoc {
+    ParamDoc { key, unit, doc }
+}
+
+impl TourParams {
+    /// The mission parameters of `planner` on `robot` with these values.
+    pub fn mission_params(&self, robot: &RobotSpec, planner: Strategy, seed: u64) -> MissionParams {
+        let gp = GpParams {
+            kernel: Kernel {
+                kind: KernelKind::SquaredExponential,
+                lengthscales: vec![self.lengthscale],
+                signal_variance: self.sigma_s,
+            },
+            noise_variance: self.sigma_eps * self.sigma_eps,
+            // Decision 12: costs are modelled as y − 1 with a zero-mean GP.
+            prior_mean: 1.0,
+        };
+        let mut cm = CostModelParams::new(gp);
+        cm.sigma_sense2 = self.sigma_sense;
+        cm.sigma0_2 = self.sigma_0_sq;
+        cm.n_min = self.n_min;
+        cm.m_t = self.m_t;
+        cm.d_s = self.d_s;
+        cm.c_max = self.c_max;
+        cm.erode_steps = self.n_erode_steps;
+        cm.dilate_steps = self.n_dilate_steps;
+        cm.dilate_size = self.n_dilate_size;
+        cm.igng.eps_winner = self.igng_eps_winner;
+        cm.igng.eps_neighbour = self.igng_eps_neighbour;
+        cm.igng.age_mature = self.igng_age_mature;
+        cm.igng.age_max = self.igng_age_max;
+        cm.igng.batch = self.igng_batch;
+        MissionParams {
+            map: robot.map.clone(),
+            gaits: robot.gaits.clone(),
+            cost_model: cm,
+            window_s: self.delta_t,
+            c_high: self.c_high,
+            c_loss: self.c_loss,
+            dt_sample: self.dt_sample,
+            dt_fallback: self.dt_fallback,
+            turning_baseline_s: self.turning_baseline_s,
+            bounds: robot.bounds,
+            time_limit_s: robot.time_limit_s,
+            strategy: planner,
+            rates: Rates {
+                spatial_hz: self.spatial_hz,
+                learning_hz: self.learning_hz,
+                tour_hz: self.tour_hz,
+                control_hz: self.control_hz,
+            },
+            max_sites_per_goal: self.max_sites_per_goal,
+            sensor_hfov_deg: robot.sensor_hfov_deg.clone(),
+            seed,
+            look_around: self.look_around,
+            commit_to_goal: self.commit_to_goal,
+            solver: TourSolver {
+                time_limit_s: self.gtsp_time_limit_s,
+                max_trials: self.gtsp_max_trials,
+                max_iterations: self.gtsp_max_iterations,
+            },
+            info_gain_spacing_m: self.info_gain_spacing_m,
+        }
+    }
+}
