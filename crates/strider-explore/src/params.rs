@@ -140,6 +140,9 @@ pub struct MissionParams {
     pub commit_to_goal: bool,
     /// The budget of each GTSP solve.
     pub solver: TourSolver,
+    /// A window that finds the robot stuck is also a cost sample of its gait (our design
+    /// choice, not the paper's; default on): the model learns where the gait gets stuck.
+    pub stuck_samples: bool,
     /// Spacing of the Eq. 11 candidate lattice, m (`None`: max(0.2 m, r_sensor/20)).
     pub info_gain_spacing_m: Option<f64>,
 }

@@ -430,6 +430,45 @@ mod tests {
     }
 
     #[test]
+    fn design_choices_reach_the_mission_parameters() {
+        let robot = RobotSpec {
+            name: "r".into(),
+            gaits: vec![GaitSpec {
+                name: "fast".into(),
+                v_max: 0.05,
+            }],
+            sensor_hfov_deg: vec![87.0],
+            map: MapParams::default(),
+            bounds: None,
+            time_limit_s: 100.0,
+            bumper: false,
+            proprio_rate_hz: 20.0,
+            pose_rate_hz: 20.0,
+        };
+        let sets: Vec<(String, String)> = [
+            ("look_around", "false"),
+            ("commit_to_goal", "false"),
+            ("stuck_windows_as_samples", "false"),
+            ("gtsp_max_trials", "3"),
+            ("info_gain_spacing_m", "0.5"),
+        ]
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+        let c = find("gtsp").unwrap().configure(None, &sets).unwrap();
+        let p = c.tour_mission(&robot, 7).unwrap();
+        assert!(!p.look_around && !p.commit_to_goal && !p.stuck_samples);
+        assert_eq!(p.solver.max_trials, 3);
+        assert_eq!(p.info_gain_spacing_m, Some(0.5));
+        assert_eq!(p.seed, 7);
+        let d = find("gtsp").unwrap().configure(None, &[]).unwrap();
+        let q = d.tour_mission(&robot, 7).unwrap();
+        assert!(q.look_around && q.commit_to_goal && q.stuck_samples);
+        assert!(find("escape").unwrap().fits(&robot).is_err());
+        assert!(find("rbcm-greedy").unwrap().fits(&robot).is_ok());
+    }
+
+    #[test]
     fn a_set_value_reaches_the_mission() {
         let s = find("greedy").unwrap();
         let c = s

@@ -81,6 +81,8 @@ pub struct TourParams {
     pub look_around: bool,
     /// Keep the pursued goal first when the goal set changes before it is reached.
     pub commit_to_goal: bool,
+    /// A window that finds the robot stuck is also a cost sample of its gait.
+    pub stuck_windows_as_samples: bool,
 }
 
 impl Default for TourParams {
@@ -122,6 +124,7 @@ impl Default for TourParams {
             info_gain_spacing_m: None,
             look_around: true,
             commit_to_goal: true,
+            stuck_windows_as_samples: true,
         }
     }
 }
@@ -262,6 +265,11 @@ impl StrategyParams for TourParams {
             "",
             "keep the pursued goal first when the goals change (ours)",
         ),
+        doc(
+            "stuck_windows_as_samples",
+            "",
+            "a window that finds the robot stuck is also a cost sample of its gait (ours)",
+        ),
     ];
 
     fn validate(&self) -> Result<(), ParamError> {
@@ -370,6 +378,7 @@ impl TourParams {
                 max_iterations: self.gtsp_max_iterations,
             },
             info_gain_spacing_m: self.info_gain_spacing_m,
+            stuck_samples: self.stuck_windows_as_samples,
         }
     }
 }
