@@ -113,6 +113,7 @@ fn run_tour(sc: &Scenario, req: &RunRequest, configured: &Configured) -> Result<
         "world_seed": world_seed,
         "seed": seed,
         "strategy": configured.name(),
+        "parameters": configured.table(),
         "termination": format!("{:?}", mission.record().termination),
         "exploration_time_s": mission.record().exploration_time_s,
         "driven_m": mission.record().driven_m,

@@ -31,7 +31,9 @@ pub fn run(sc: &Scenario, req: &RunRequest, mode: EscapeMode, table: &EscapeTabl
         ..
     } = *req;
     let wall = Instant::now();
-    let mut params = table.escape_params(&strider_cli::trial::robot_spec(sc), mode)?;
+    let mut params = table
+        .escape_params(&strider_cli::trial::robot_spec(sc), mode)
+        .map_err(|e| anyhow::anyhow!("strategy {}: {e}", mode.name()))?;
     if let Some(t) = time_limit {
         params.time_limit_s = checked_time_limit(t)?;
     }
@@ -76,6 +78,7 @@ pub fn run(sc: &Scenario, req: &RunRequest, mode: EscapeMode, table: &EscapeTabl
         "world_seed": world_seed,
         "seed": seed,
         "strategy": mode.name(),
+        "parameters": strider_explore::registry::typed::to_table(table),
         "termination": format!("{:?}", run.termination),
         "exploration_time_s": run.exploration_time_s,
         "driven_m": run.driven_m,

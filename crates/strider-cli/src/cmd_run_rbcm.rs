@@ -134,7 +134,9 @@ pub fn run(sc: &Scenario, req: &RunRequest, table: &RbcmTable) -> Result<()> {
             sc.name
         ));
     }
-    let mut params = table.explorer_params(&strider_cli::trial::robot_spec(sc))?;
+    let mut params = table
+        .explorer_params(&strider_cli::trial::robot_spec(sc))
+        .map_err(|e| anyhow::anyhow!("strategy rbcm-greedy: {e}"))?;
     if let Some(t) = time_limit {
         params.time_limit_s = checked_time_limit(t)?;
     }
@@ -156,7 +158,9 @@ pub fn run(sc: &Scenario, req: &RunRequest, table: &RbcmTable) -> Result<()> {
     let ex = mission.strategy();
     let log = ex.log();
     let (terrains, learned) = terrain_check(sc, ex);
-    let report = report_json(sc, world_seed, seed, &mission, &terrains, learned, wall);
+    let mut report = report_json(sc, world_seed, seed, &mission, &terrains, learned, wall);
+    report["parameters"] = json!(strider_explore::registry::typed::to_table(table));
+    report["warnings"] = json!(warnings);
     write_figures(&mission, log, out)?;
     let path = out.join("report.json");
     fs::write(&path, serde_json::to_string_pretty(&report)?)
