@@ -1,5 +1,5 @@
 //! `strider replay`: a recorded ROS 2 log (MCAP) behind the robot interface, ingested by the
-//! mission's own mapping and learning ([`Mission::ingest`]); writes the report of `strider run`
+//! mission's own mapping and learning ([`strider_explore::Mission::ingest`]); writes the report of `strider run`
 //! without the benchmark tours (`report.json`, `report.html`, the figures).
 
 use std::fs;

@@ -10,8 +10,8 @@
 //! * [`goals`]: goal selection of C4 Alg. 2 (Eq. 22–26).
 //! * [`reflexes`]: the approach/push and sample/retreat reflexes of C4 §5.1.
 //!
-//! [`EscapeMission`] runs C4 Alg. 2 on any [`Robot`]: the map is updated from every fused scan
-//! (line 4), the predictor relearned at 0.03 Hz (line 5), predictions applied and spatial goals
+//! [`EscapeMission`] runs C4 Alg. 2 on the mission kernel ([`crate::kernel`]): the map is
+//! updated from every fused scan (line 4), the predictor relearned at 0.03 Hz (line 5), predictions applied and spatial goals
 //! identified at `view_hz` (lines 6–10), and a goal chosen (lines 11–20) whenever the view was
 //! rebuilt, the robot stopped, or a reflex ended. It reads only what the robot reports (poses,
 //! clouds, the bumper force, the motion state).
