@@ -70,8 +70,23 @@ pub fn section<'a>(sc: &'a Scenario, name: &str) -> Result<Option<&'a toml::Tabl
             sc.name
         );
     }
+    if let Some(unknown) = sc
+        .strategy
+        .keys()
+        .find(|k| registry::find(k).is_err() && !COMMAND_SECTIONS.contains(&k.as_str()))
+    {
+        bail!(
+            "scenario {}: [strategy.{unknown}] is neither a strategy ({}) nor a command's section ({})",
+            sc.name,
+            registry::names().join(", "),
+            COMMAND_SECTIONS.join(", ")
+        );
+    }
     Ok(sc.strategy.get(name).and_then(|v| v.as_table()))
 }
+
+/// `[strategy.<name>]` sections read by commands rather than exploration strategies.
+pub const COMMAND_SECTIONS: [&str; 3] = ["tours", "navigate", "learn-bench"];
 
 /// The strategy `name` configured from the scenario's `[strategy.<name>]` and the overrides
 /// `sets`, after checking that the scenario's robot can carry it.
@@ -82,7 +97,19 @@ pub fn configure(
 ) -> Result<(&'static StrategyInfo, Configured)> {
     let info = registry::find(name)?;
     info.fits(&robot_spec(sc))?;
-    let configured = info.configure(section(sc, info.name)?, sets)?;
+    let table = section(sc, info.name)?;
+    // The scenario's section first, so that an error in it says where it is.
+    let from_file = info.configure(table, &[]).map_err(|e| {
+        anyhow::anyhow!(
+            "scenario {}, section [strategy.{}]: {e}",
+            sc.name,
+            info.name
+        )
+    })?;
+    if sets.is_empty() {
+        return Ok((info, from_file));
+    }
+    let configured = info.configure(table, sets)?;
     Ok((info, configured))
 }
 

@@ -86,3 +86,50 @@ fn bad_parameters_fail_with_one_line_naming_the_key() {
     ]));
     assert!(e.contains("bumper"), "{e}");
 }
+
+/// A scenario file's `[strategy.<name>]` sections are checked: a misspelt section, a key left
+/// directly under `[strategy]` and a wrong type each fail with one line that says where.
+#[test]
+fn scenario_strategy_sections_are_checked() {
+    let d = temp_dir("strategies", "sections");
+    let dir = d.join("sc");
+    let o = strider(&[
+        "scenario",
+        "export",
+        "courtyard-small",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let file = dir.join("scenario.toml");
+    let original = std::fs::read_to_string(&file).unwrap();
+    let out = d.join("out");
+    let run = |text: String| {
+        std::fs::write(&file, text).unwrap();
+        one_line_error(&strider(&[
+            "run",
+            "--scenario",
+            file.to_str().unwrap(),
+            "--time-limit",
+            "5",
+            "-o",
+            out.to_str().unwrap(),
+        ]))
+    };
+    let e = run(format!("{original}\n[strategy.gsp]\nc_loss = 1.0\n"));
+    assert!(e.contains("[strategy.gsp]") && e.contains("gtsp"), "{e}");
+    let e = run(original.replacen(
+        "[strategy.gtsp]",
+        "[strategy]\nc_loss = 3.0\n\n[strategy.gtsp]",
+        1,
+    ));
+    assert!(
+        e.contains("`c_loss`") && e.contains("[strategy.gtsp]"),
+        "{e}"
+    );
+    let e = run(original.replace("c_loss = 10.0", "c_loss = \"ten\""));
+    assert!(
+        e.contains("section [strategy.gtsp]") && e.contains("c_loss"),
+        "{e}"
+    );
+}
