@@ -155,6 +155,44 @@ struct Sampling {
     until: f64,
 }
 
+/// What distinguishes the three `001` strategies, decided once from the planner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Behaviour {
+    /// Cost-model goals are pursued, and the exploration ends only once every model has a
+    /// regressor.
+    cost_goals: bool,
+    /// Planning costs.
+    costs: CostMode,
+    /// The gait is chosen by Alg. 4 on the learned costs (else the fastest, reactively).
+    learned_gait: bool,
+    /// The cheapest goal next instead of the GTSP tour.
+    cheapest_next: bool,
+}
+
+impl Behaviour {
+    fn of(planner: Strategy) -> Self {
+        let learned = Self {
+            cost_goals: true,
+            costs: CostMode::Learned,
+            learned_gait: true,
+            cheapest_next: false,
+        };
+        match planner {
+            Strategy::Gtsp => learned,
+            Strategy::Greedy => Self {
+                cheapest_next: true,
+                ..learned
+            },
+            Strategy::SpatialOnly => Self {
+                cost_goals: false,
+                costs: CostMode::Flat,
+                learned_gait: false,
+                cheapest_next: false,
+            },
+        }
+    }
+}
+
 /// The module timers of `001` Tbl. 4.
 #[derive(Clone, Copy, Debug)]
 struct Modules {
@@ -167,6 +205,7 @@ struct Modules {
 /// kernel's body).
 pub struct TourExplorer {
     params: MissionParams,
+    behaviour: Behaviour,
     models: Vec<GaitCostModel>,
     signal: InverseVelocityCost,
     fallback: FallbackTimer,
@@ -294,6 +333,7 @@ impl TourExplorer {
             goal_ms_since_replan: (0.0, 0.0),
             learn_generation: 0,
             modules: None,
+            behaviour: Behaviour::of(params.strategy),
             params,
         })
     }
@@ -374,10 +414,6 @@ impl TourExplorer {
     /// [`learning_updates`](Self::learning_updates) at the next tour decision.
     pub fn view_learning_updates(&self) -> Option<u64> {
         self.view.as_ref().and(self.view_key).map(|k| k.1)
-    }
-
-    fn spatial_only(&self) -> bool {
-        self.params.strategy == Strategy::SpatialOnly
     }
 
     /// Measurement every tick: the cost signal restarts when the robot stands, and the stuck
@@ -483,7 +519,7 @@ impl TourExplorer {
                 sites: vec![s.cell],
             })
             .collect();
-        if !self.spatial_only() {
+        if self.behaviour.cost_goals {
             let map = body.map();
             let r = 2.0 * map.params().r_robot / map.cell_size();
             for (g, goal) in &self.cost_goals {
@@ -560,7 +596,7 @@ impl TourExplorer {
     ) -> Option<Termination> {
         let end = self.decide_tour(body, robot, t, state);
         if end.is_none()
-            && !self.spatial_only()
+            && self.behaviour.costs == CostMode::Learned
             && self.view_key.is_some_and(|k| k.1 != self.learn_generation)
         {
             body.map_mut().update_passability();
@@ -622,7 +658,8 @@ impl TourExplorer {
         let changed = keys != self.goal_keys;
         if goals.is_empty() && self.learned_once && self.spatial_once {
             // Alg. 1 lines 21–24: no spatial goal and every model has a regressor and no goal.
-            let models_done = self.spatial_only() || self.models.iter().all(|m| m.has_regressor());
+            let models_done =
+                !self.behaviour.cost_goals || self.models.iter().all(|m| m.has_regressor());
             if models_done {
                 return Some(Termination::GoalsCleared);
             }
@@ -632,11 +669,7 @@ impl TourExplorer {
         }
         self.goal_keys = keys;
         let w = Instant::now();
-        let mode = if self.spatial_only() {
-            CostMode::Flat
-        } else {
-            CostMode::Learned
-        };
+        let mode = self.behaviour.costs;
         body.map_mut().update_passability();
         let wv = Instant::now();
         self.refresh_view(body, mode);
@@ -661,7 +694,7 @@ impl TourExplorer {
                 v,
                 here,
                 &goals,
-                if self.params.strategy == Strategy::Greedy {
+                if self.behaviour.cheapest_next {
                     TourOrder::CheapestNext
                 } else {
                     TourOrder::Gtsp(&self.params.solver)
@@ -788,7 +821,7 @@ impl TourExplorer {
         if self.fallback.is_active(t) {
             return self.params.rough_gait();
         }
-        if self.spatial_only() {
+        if !self.behaviour.learned_gait {
             // Reactive: the fastest gait unless stuck.
             return self.params.fastest_gait();
         }
