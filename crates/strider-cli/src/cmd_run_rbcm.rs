@@ -49,8 +49,6 @@ pub fn explore(
 ) -> Result<(Mission<RbcmGreedy>, Option<WriteSummary>)> {
     let mut mission = RbcmGreedy::mission(params)?;
     let written = drive(sc, seed, &mut mission, mcap, |_, p| progress(p))?;
-    let (body, ex) = mission.parts_mut();
-    ex.refresh_cost_map(body);
     Ok((mission, written))
 }
 

@@ -143,7 +143,8 @@ pub struct CompareCell {
     pub observed_cells: Option<Summary>,
     /// Learned-cost RMSE per model.
     pub cost_rmse: BTreeMap<String, Summary>,
-    /// Benchmark-tour time, s.
+    /// Benchmark-tour time over the trials whose tour completed, s (an incomplete tour's
+    /// time leaves out the segments it could not plan, so it is not a time to compare).
     pub tour_time_s: Option<Summary>,
     /// Trials whose tour completed.
     pub tours_completed: usize,
@@ -199,6 +200,14 @@ pub fn run(
     }
     if entrants.is_empty() || o.scenarios.is_empty() {
         bail!("give at least one scenario and one strategy");
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    if let Some(n) = o.scenarios.iter().find(|n| !seen.insert(n.as_str())) {
+        bail!("scenario {n} is listed twice");
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    if let Some(e) = entrants.iter().find(|e| !seen.insert(e.name.as_str())) {
+        bail!("strategy {} is listed twice", e.name);
     }
     let mut skipped: BTreeMap<(String, String), String> = BTreeMap::new();
     let mut tasks = Vec::new();
@@ -383,9 +392,9 @@ fn truth_at(
         }
         Quantity::InverseVelocity { v_max, c_high } => {
             let (r, top) = response(gait?)?;
-            // A stuck robot crawls at 2 % of the gait's speed (the simulator's rule).
+            // On stuck terrain the simulator's nominal speed is its stuck fraction of the gait's.
             let factor = if r.stuck {
-                r.speed_factor.min(0.02)
+                strider_sim::MotionParams::default().stuck_speed_fraction
             } else {
                 r.speed_factor
             };
@@ -420,12 +429,20 @@ fn summarise(
             .into_iter()
             .filter_map(|(m, v)| Some((m, Summary::of(&v).ok()?)))
             .collect(),
-        tour_time_s: of(trials.iter().filter_map(|t| t.tour_time_s).collect()),
+        tour_time_s: of(trials
+            .iter()
+            .filter_map(|t| completed_tour_time(t))
+            .collect()),
         tours_completed: trials
             .iter()
             .filter(|t| t.tour_completed == Some(true))
             .count(),
     }
+}
+
+/// The tour time of a trial whose tour completed.
+fn completed_tour_time(t: &CompareTrial) -> Option<f64> {
+    t.tour_time_s.filter(|_| t.tour_completed == Some(true))
 }
 
 /// A per-trial figure the pairwise tests compare.
@@ -445,7 +462,7 @@ fn pair_tests(
     };
     let measures: [(&str, Measure); 2] = [
         ("exploration_time_s", |t| Some(t.exploration_time_s)),
-        ("tour_time_s", |t| t.tour_time_s),
+        ("tour_time_s", completed_tour_time),
     ];
     let mut out = Vec::new();
     for sc in scenarios {
@@ -496,6 +513,22 @@ fn range(s: &Option<Summary>, digits: usize) -> String {
     )
 }
 
+/// The unit of model `model`'s cost in the trials of `strategy` (empty for a dimensionless one).
+fn unit_of(c: &Comparison, strategy: &str, model: &str) -> &'static str {
+    let q = c
+        .trials
+        .iter()
+        .filter(|t| t.strategy == strategy)
+        .flat_map(|t| &t.cost_error)
+        .find(|e| e.model == model)
+        .map(|e| e.quantity);
+    match q {
+        Some(Quantity::RollVariance) => " rad²",
+        Some(Quantity::PushForce) => " N",
+        _ => "",
+    }
+}
+
 /// The tables of `compare.md`.
 pub fn markdown(c: &Comparison, command: &str) -> String {
     use std::fmt::Write;
@@ -503,7 +536,7 @@ pub fn markdown(c: &Comparison, command: &str) -> String {
     let _ = writeln!(m, "# Strategies compared on the same worlds\n");
     let _ = writeln!(
         m,
-        "Produced by `{command}`: {} trials per scenario and strategy over {} world seeds. Medians with [min–max] over trials. Cost RMSE: each model's planning cost against the terrain table in its own quantity, over observed cells traversable in truth. Tour: the scenario's first benchmark tour with learned navigation on the `001` models a passive learner fitted to the data the strategy collected.\n",
+        "Produced by `{command}`: {} trials per scenario and strategy over {} world seeds. Medians with [min–max] over trials. Cost RMSE: each model's planning cost (a model without data plans with its prior) against the terrain table in its own quantity (inverse-velocity cost, dimensionless; roll variance, rad²; push force, N), over the cells that strategy's map observed and that are traversable in truth. Tour: the scenario's first benchmark tour with learned navigation on the `001` models a passive learner fitted to the data the strategy collected; times over the trials whose tour completed.\n",
         c.trials_per_cell, c.world_seeds
     );
     let mut scenarios: Vec<&str> = c.cells.iter().map(|x| x.scenario.as_str()).collect();
@@ -512,7 +545,7 @@ pub fn markdown(c: &Comparison, command: &str) -> String {
         let _ = writeln!(m, "## {sc}\n");
         let _ = writeln!(
             m,
-            "| strategy | exploration s | observed cells | learned cost RMSE | tour s | tours completed |"
+            "| strategy | exploration s | observed cells | learned cost RMSE | tour s (completed) | tours completed |"
         );
         let _ = writeln!(m, "|---|---|---|---|---|---|");
         for cell in c.cells.iter().filter(|x| x.scenario == sc) {
@@ -523,7 +556,7 @@ pub fn markdown(c: &Comparison, command: &str) -> String {
             let rmse: Vec<String> = cell
                 .cost_rmse
                 .iter()
-                .map(|(k, s)| format!("{k} {:.3}", s.median))
+                .map(|(k, s)| format!("{k} {:.3}{}", s.median, unit_of(c, &cell.strategy, k)))
                 .collect();
             let n = cell.exploration_time_s.as_ref().map_or(0, |s| s.n);
             let _ = writeln!(

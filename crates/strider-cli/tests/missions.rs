@@ -221,3 +221,27 @@ fn algorithm_crates_do_not_depend_on_the_simulator() {
         }
     }
 }
+
+/// `stuck_windows_as_samples = false` keeps the windows that find the robot stuck out of the
+/// models (by default they teach the gait where it gets stuck).
+#[test]
+fn stuck_windows_as_samples_can_be_switched_off() {
+    let sc = scenario("courtyard-small", 1);
+    let samples = |stuck_samples: bool| {
+        let mut params = mission_params(&sc, Strategy::Gtsp, 1).expect("params");
+        params.time_limit_s = 600.0;
+        params.stuck_samples = stuck_samples;
+        let mut sim = Simulator::new(&sc, 1).expect("simulator");
+        let mut mission = TourExplorer::mission(params).expect("mission");
+        mission.run(&mut sim).expect("mission runs");
+        let log = mission.strategy().log();
+        (log.cost_samples.iter().sum::<usize>(), log.stuck_events)
+    };
+    let (with, stuck) = samples(true);
+    let (without, _) = samples(false);
+    assert!(stuck > 0, "the robot never got stuck: the test saw nothing");
+    assert!(
+        without < with,
+        "{without} samples without stuck windows, {with} with"
+    );
+}

@@ -73,10 +73,15 @@ impl<S: Strategy> Strategy for Shadowed<S> {
         state: &mut MotionState,
         t: f64,
     ) -> Option<Termination> {
-        // The learner sees the motion state the robot reported, before the strategy acts on it.
-        let mut seen = *state;
+        // The strategy decides first, as it would alone; the learner then sees the motion state
+        // the robot reported. (The learner refreshes the map's derived passability layer at its
+        // learning rate, so a strategy that reads that layer before refreshing it itself may
+        // see it fresher than alone.)
+        let seen = *state;
+        let end = self.main.tick(body, robot, state, t);
+        let mut seen = seen;
         self.learner.ingest_tick(body, &mut seen, t);
-        self.main.tick(body, robot, state, t)
+        end
     }
 
     fn ingest_tick(&mut self, body: &mut Body, state: &mut MotionState, t: f64) {

@@ -870,6 +870,10 @@ impl KernelStrategy for TourExplorer {
             return;
         }
         let sample = self.signal.push(pose, pose.gait);
+        if sample.is_some() && !self.params.stuck_samples && self.signal.is_stuck() {
+            // A window that finds the robot stuck is left out when the strategy asks so.
+            return;
+        }
         if sample.is_some() && self.turns.in_support() > 0.0 {
             // The robot spent part of the window turning: that time is the path's, not the
             // terrain's.

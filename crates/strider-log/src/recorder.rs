@@ -475,6 +475,9 @@ impl Recorder {
     fn grid(&mut self, layers: &Layers, d: f64, ns: i64) -> Result<(), LogError> {
         use fg::packed_element_field::NumericType as N;
         let rect = layers.rect;
+        if rect.is_empty() {
+            return Ok(()); // nothing mapped yet
+        }
         let models = &layers.models;
         let nm = models.len();
         // f32 layers first (4-byte aligned), then the bytes.

@@ -313,9 +313,11 @@ impl<S: Strategy> Mission<S> {
     /// the known part of the map (a pass over it) and the measured costs.
     pub fn snapshot(&self, layers: bool) -> Snapshot {
         let map = self.body.map();
+        // Asked for layers before anything is mapped: an empty rectangle, so a recorder still
+        // knows the layers were due.
+        let empty = strider_core::CellRect::new(Cell::new(0, 0), 0, 0);
         let layers = layers
-            .then(|| map.known_bounds())
-            .flatten()
+            .then(|| map.known_bounds().unwrap_or(empty))
             .map(|rect| Layers {
                 rect,
                 elevation: map.elevation_raster(rect),
@@ -346,6 +348,12 @@ impl<S: Strategy> Mission<S> {
             measured: Vec::new(),
         };
         self.strategy.describe(&self.body, &mut snap);
+        // A model layer of the wrong size (a strategy's mistake) is dropped, not indexed.
+        if let Some(l) = snap.layers.as_mut() {
+            let n = l.rect.len();
+            l.models
+                .retain(|m| m.cost.len() == n && m.variance.len() == n && m.measured.len() == n);
+        }
         snap
     }
 

@@ -745,6 +745,12 @@ impl Strategy for RbcmGreedy {
         layers.models.push(layer);
     }
 
+    /// The final Mcost for the current map and committee, so that reports and snapshots
+    /// after the mission show what was learned last.
+    fn finish(&mut self, body: &mut Body, _t: f64) {
+        self.refresh_cost_map(body);
+    }
+
     fn goal_counts(&self) -> GoalCounts {
         GoalCounts {
             spatial_goals: usize::from(self.goal.is_some_and(|g| g.kind == GoalKind::Spatial)),
