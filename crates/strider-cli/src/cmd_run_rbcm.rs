@@ -17,6 +17,7 @@
 use std::fs;
 use std::path::Path;
 use std::time::Instant;
+use strider_explore::FromParams;
 
 use anyhow::{Context, Result};
 use serde_json::json;

@@ -9,6 +9,7 @@
 
 use anyhow::{Result, bail};
 use strider_core::Cell;
+use strider_explore::FromParams;
 use strider_explore::Mission;
 use strider_explore::escape::{EscapeLog, EscapeMission, EscapeMode, EscapeParams};
 use strider_explore::registry::Configured;

@@ -11,6 +11,7 @@ use std::cell::RefCell;
 use std::path::Path;
 use std::rc::Rc;
 use strider_core::Pose2;
+use strider_explore::FromParams;
 use strider_explore::evaluate::{NavigationMode, TourResult, run_tour};
 use strider_explore::registry::{self, Configured, RobotSpec, StrategyInfo};
 use strider_explore::{

@@ -4,6 +4,7 @@
 
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{GaitId, Point2};
+use strider_explore::FromParams;
 use strider_explore::{Strategy, Termination, TourExplorer};
 use strider_scenario::Scenario;
 use strider_scenario::ground_truth::point_in_mask;

@@ -7,6 +7,7 @@ mod common;
 use std::path::Path;
 use strider_cli::trial::{mission_params, run_mission, run_mission_recorded};
 use strider_core::msg::ColoredPoint;
+use strider_explore::FromParams;
 use strider_explore::{Strategy, TourExplorer};
 use strider_log::ros2::{self, Header, MsgType, Odometry, Quaternion, Time, UInt8Msg};
 use strider_log::{LogReplay, McapWriter, ReplayConfig};

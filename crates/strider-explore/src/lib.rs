@@ -44,7 +44,7 @@ pub mod stats;
 pub mod tour_explorer;
 
 pub use kernel::{
-    Body, BodyParams, Mission, MissionError, MissionProgress, RunRecord,
+    Body, BodyParams, FromParams, Mission, MissionError, MissionProgress, RunRecord,
     Strategy as MissionStrategy, Termination,
 };
 pub use params::{GaitSpec, MissionParams, Rates, Strategy};

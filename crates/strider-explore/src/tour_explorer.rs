@@ -38,7 +38,7 @@
 //!   learning modules have both run, or at the time limit.
 
 use crate::kernel::{
-    Actuators, Body, BodyParams, Every, GoalCounts, Manoeuvre, Mission, MissionError,
+    Actuators, Body, BodyParams, Every, FromParams, GoalCounts, Manoeuvre, MissionError,
     Strategy as KernelStrategy, Termination, look_around, site,
 };
 use crate::params::{MissionParams, Strategy};
@@ -336,22 +336,6 @@ impl TourExplorer {
             behaviour: Behaviour::of(params.strategy),
             params,
         })
-    }
-
-    /// The kernel's body parameters for this explorer's mission.
-    pub fn body_params(params: &MissionParams) -> BodyParams {
-        BodyParams {
-            map: crate::kernel::lattice_map_params(&params.map, params.info_gain_spacing_m),
-            sensor_hfov_deg: params.sensor_hfov_deg.clone(),
-            bounds: params.bounds,
-            time_limit_s: params.time_limit_s,
-        }
-    }
-
-    /// A mission of this explorer with `params`.
-    pub fn mission(params: MissionParams) -> Result<Mission<Self>, MissionError> {
-        let body = Self::body_params(&params);
-        Mission::new(body, Self::new(params)?)
     }
 
     /// The per-gait cost models.
@@ -835,6 +819,24 @@ impl TourExplorer {
             .as_ref()
             .and_then(|v| v.choose_gait(here))
             .unwrap_or(self.gait)
+    }
+}
+
+impl FromParams for TourExplorer {
+    type Params = MissionParams;
+
+    /// The kernel's body parameters for this explorer's mission.
+    fn body_params(params: &MissionParams) -> BodyParams {
+        BodyParams {
+            map: crate::kernel::lattice_map_params(&params.map, params.info_gain_spacing_m),
+            sensor_hfov_deg: params.sensor_hfov_deg.clone(),
+            bounds: params.bounds,
+            time_limit_s: params.time_limit_s,
+        }
+    }
+
+    fn from_params(params: MissionParams) -> Result<Self, MissionError> {
+        Self::new(params)
     }
 }
 

@@ -37,7 +37,7 @@ pub mod reflexes;
 pub mod view;
 
 use crate::kernel::{
-    Actuators, Body, BodyParams, Every, GoalCounts, LOOK_AROUND_S, Manoeuvre, Mission,
+    Actuators, Body, BodyParams, Every, FromParams, GoalCounts, LOOK_AROUND_S, Manoeuvre,
     MissionError, Strategy, Termination, look_around, site,
 };
 use force_predictor::{ForcePrediction, ForcePredictor, PredictorParams, describe};
@@ -327,24 +327,6 @@ impl EscapeMission {
             },
             params,
         })
-    }
-
-    /// The kernel's body parameters for this mission: Eq. 8 on a stride lattice as in the
-    /// `001` mission (decision 5), each candidate standing for stride² cells in the minimum
-    /// cluster size.
-    pub fn body_params(params: &EscapeParams) -> BodyParams {
-        BodyParams {
-            map: crate::kernel::lattice_map_params(&params.map, params.info_gain_spacing_m),
-            sensor_hfov_deg: params.sensor_hfov_deg.clone(),
-            bounds: params.bounds,
-            time_limit_s: params.time_limit_s,
-        }
-    }
-
-    /// A mission of this strategy with `params`.
-    pub fn mission(params: EscapeParams) -> Result<Mission<Self>, MissionError> {
-        let body = Self::body_params(&params);
-        Mission::new(body, Self::new(params)?)
     }
 
     /// The haptic model.
@@ -754,6 +736,26 @@ pub fn corridor_cells(
         out.retain(|&(_, a)| a <= first + 2.0 * d);
     }
     out
+}
+
+impl FromParams for EscapeMission {
+    type Params = EscapeParams;
+
+    /// The kernel's body parameters for this mission: Eq. 8 on a stride lattice as in the
+    /// `001` mission (decision 5), each candidate standing for stride² cells in the minimum
+    /// cluster size.
+    fn body_params(params: &EscapeParams) -> BodyParams {
+        BodyParams {
+            map: crate::kernel::lattice_map_params(&params.map, params.info_gain_spacing_m),
+            sensor_hfov_deg: params.sensor_hfov_deg.clone(),
+            bounds: params.bounds,
+            time_limit_s: params.time_limit_s,
+        }
+    }
+
+    fn from_params(params: EscapeParams) -> Result<Self, MissionError> {
+        Self::new(params)
+    }
 }
 
 impl Strategy for EscapeMission {

@@ -76,6 +76,21 @@ pub trait Strategy {
     fn describe(&self, body: &Body, snap: &mut Snapshot);
 }
 
+/// A strategy made from its own parameter struct, which also says what body it needs.
+pub trait FromParams: Strategy + Sized {
+    /// The strategy's parameters.
+    type Params;
+    /// The body the strategy needs with `params`.
+    fn body_params(params: &Self::Params) -> BodyParams;
+    /// The strategy with `params`.
+    fn from_params(params: Self::Params) -> Result<Self, MissionError>;
+    /// A mission of the strategy with `params`.
+    fn mission(params: Self::Params) -> Result<Mission<Self>, MissionError> {
+        let body = Self::body_params(&params);
+        Mission::new(body, Self::from_params(params)?)
+    }
+}
+
 /// A boxed strategy is a strategy: missions of strategies chosen at run time, and of
 /// strategies written outside this crate.
 impl<S: Strategy + ?Sized> Strategy for Box<S> {

@@ -43,8 +43,8 @@ pub mod cost_map;
 pub mod goals;
 
 use crate::kernel::{
-    Actuators, Body, BodyParams, Every, GoalCounts, LOOK_AROUND_S, Manoeuvre as Deadline, Mission,
-    MissionError, Strategy, Termination, look_around,
+    Actuators, Body, BodyParams, Every, FromParams, GoalCounts, LOOK_AROUND_S,
+    Manoeuvre as Deadline, MissionError, Strategy, Termination, look_around,
 };
 use cost_map::{CostMap, PredictionCache};
 use goals::{Goal, GoalKind, best_cost_goal, best_spatial_goal, frontier_representatives};
@@ -262,22 +262,6 @@ impl RbcmGreedy {
             },
             params,
         })
-    }
-
-    /// The kernel's body parameters for this explorer's mission.
-    pub fn body_params(params: &RbcmGreedyParams) -> BodyParams {
-        BodyParams {
-            map: params.map.clone(),
-            sensor_hfov_deg: params.sensor_hfov_deg.clone(),
-            bounds: params.bounds,
-            time_limit_s: params.time_limit_s,
-        }
-    }
-
-    /// A mission of this explorer with `params`.
-    pub fn mission(params: RbcmGreedyParams) -> Result<Mission<Self>, MissionError> {
-        let body = Self::body_params(&params);
-        Mission::new(body, Self::new(params)?)
     }
 
     /// The learned committee.
@@ -589,6 +573,24 @@ pub fn carrot_waypoints(cells: &[Cell], cell_size: f64, carrot: f64, robot: Poin
         }
     }
     out
+}
+
+impl FromParams for RbcmGreedy {
+    type Params = RbcmGreedyParams;
+
+    /// The kernel's body parameters for this explorer's mission.
+    fn body_params(params: &RbcmGreedyParams) -> BodyParams {
+        BodyParams {
+            map: params.map.clone(),
+            sensor_hfov_deg: params.sensor_hfov_deg.clone(),
+            bounds: params.bounds,
+            time_limit_s: params.time_limit_s,
+        }
+    }
+
+    fn from_params(params: RbcmGreedyParams) -> Result<Self, MissionError> {
+        Self::new(params)
+    }
 }
 
 impl Strategy for RbcmGreedy {

@@ -9,7 +9,7 @@ pub mod tour;
 pub mod typed;
 
 use crate::escape::{EscapeMission, EscapeMode};
-use crate::kernel::{BodyParams, Mission, MissionError, Strategy};
+use crate::kernel::{BodyParams, FromParams, Mission, MissionError, Strategy};
 use crate::params::Strategy as Planner;
 use crate::rbcm_greedy::RbcmGreedy;
 use crate::tour_explorer::TourExplorer;
@@ -320,23 +320,15 @@ impl Configured {
             strategy: name,
             source,
         };
-        Ok(match self {
+        match self {
             Configured::Tour(planner, p) => {
-                let params = p.mission_params(robot, *planner, seed);
-                let body = TourExplorer::body_params(&params);
-                (body, boxed(TourExplorer::new(params)?))
+                parts::<TourExplorer>(p.mission_params(robot, *planner, seed))
             }
-            Configured::Rbcm(p) => {
-                let params = p.explorer_params(robot).map_err(param)?;
-                let body = RbcmGreedy::body_params(&params);
-                (body, boxed(RbcmGreedy::new(params)?))
-            }
+            Configured::Rbcm(p) => parts::<RbcmGreedy>(p.explorer_params(robot).map_err(param)?),
             Configured::Escape(mode, p) => {
-                let params = p.escape_params(robot, *mode).map_err(param)?;
-                let body = EscapeMission::body_params(&params);
-                (body, boxed(EscapeMission::new(params)?))
+                parts::<EscapeMission>(p.escape_params(robot, *mode).map_err(param)?)
             }
-        })
+        }
     }
 
     /// The strategy's registry name.
@@ -349,8 +341,12 @@ impl Configured {
     }
 }
 
-fn boxed<S: Strategy + Send + 'static>(s: S) -> Box<dyn Strategy + Send> {
-    Box::new(s)
+/// The body parameters and the boxed strategy of `params`.
+fn parts<S: FromParams + Send + 'static>(
+    params: S::Params,
+) -> Result<(BodyParams, Box<dyn Strategy + Send>), RegistryError> {
+    let body = S::body_params(&params);
+    Ok((body, Box::new(S::from_params(params)?)))
 }
 
 #[cfg(test)]
