@@ -201,7 +201,7 @@ fn curtains_are_pushed_through() {
     sim.follow(&[Point2::new(4.0, 1.0)]);
     let mut rec = Rec::default();
     assert!(run(&mut sim, &mut rec, 400.0).blocked);
-    // Through the servo torque and back (the C4 Table 4 calibration): equal up to rounding.
+    // Through the servo torque and back (the Prágr23 Table 4 calibration): equal up to rounding.
     assert!((rec.proprio.last().unwrap().bumper_force - 3.0).abs() < 1e-9);
     // A robot that cannot push is stopped by the curtain; without a bumper it feels nothing.
     fill(&mut world, 50, 52, 0, 40, 0.8, CURTAIN);

@@ -1,4 +1,4 @@
-//! `bonn-paths` (`004`): a 60 × 40 m outdoor area at 0.5 m with paved road, dirt road, gravel
+//! `bonn-paths` (Nardi19): a 60 × 40 m outdoor area at 0.5 m with paved road, dirt road, gravel
 //! and grass on gently rolling ground, and an aerial RGB layer in which the terrains are
 //! distinguishable but noisy (per-cell noise plus low-frequency illumination).
 //!
@@ -23,9 +23,9 @@ use crate::error::ScenarioError;
 use crate::model::{Scenario, TerrainType, World};
 use crate::profiles;
 
-pub(super) const DESCRIPTION: &str = "004 Bonn paths: 60×40 m at 0.5 m, paved road, dirt roads, \
-gravel and grass with a noisy aerial colour layer; vibration paved 0.5 / dirt 1.5 / gravel 4.0 / \
-grass 2.5 m/s², energy per metre 1.0/1.2/1.6/2.0, husky; start-goal task and locations A–D.";
+pub(super) const DESCRIPTION: &str = "Nardi19 Bonn paths: 60×40 m at 0.5 m, paved road, dirt \
+roads, gravel and grass with a noisy aerial colour layer; vibration paved 0.5 / dirt 1.5 / gravel \
+4.0 / grass 2.5 m/s², energy per metre 1.0/1.2/1.6/2.0, husky; start-goal task and locations A–D.";
 
 /// Terrain indices.
 pub const PAVED: u8 = 0;

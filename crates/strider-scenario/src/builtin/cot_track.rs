@@ -1,12 +1,12 @@
-//! `cot-track` (thesis C1 §IV-B): the laboratory test track of the cost-of-transport study — six
+//! `cot-track` (Prágr18 §IV-B): the laboratory test track of the cost-of-transport study — six
 //! 3 m sections of different surfaces along one straight lane at 0.05 m, each followed by a strip
 //! of flat PVC ("at the far end of each examined terrain there is usually a section of flat
 //! ground"): PVC flooring (flat), turf-like carpet (grass), soft black fabric (black), and wooden
 //! blocks covered with the turf (grass rough), covered with the fabric (black rough) and bare
 //! (blocks). Blocks are 10 × 10 cm with random heights up to 8 cm (up to 6 cm under a cover).
 //!
-//! Cost of transport CoT = P / (m g v) (thesis C1 Eq. 1) of the hexapod's adaptive gait. The
-//! thesis gives the costs only qualitatively (§IV-C: flat, grass and grass rough differ little;
+//! Cost of transport CoT = P / (m g v) (Prágr18 Eq. 1) of the hexapod's adaptive gait. The
+//! paper gives the costs only qualitatively (§IV-C: flat, grass and grass rough differ little;
 //! the blocks are less uniform, low-cost areas like flat with high-cost peaks; black and black
 //! rough cost most, with peaks) and its Table I errors (≈ 6 with a variance ≈ 40) put them in
 //! the tens, as usual for small hexapods. Our values: flat 20, grass 22, grass rough 24, blocks
@@ -16,7 +16,7 @@
 //! realises a CoT through the speed factor sf and the gait power P = CoT · m g v_max · sf; its
 //! power noise (`sim.proprio_noise` 0.2) stands in for the Hall-effect current sensor.
 //!
-//! Layout per seed: seed 1 keeps the thesis' order (increasing difficulty: flat, grass, black,
+//! Layout per seed: seed 1 keeps the paper's order (increasing difficulty: flat, grass, black,
 //! grass rough, black rough, blocks); other seeds shuffle the sections. Block heights are random
 //! for every seed. One open tour `track` runs along the lane from start to end.
 
@@ -34,10 +34,9 @@ use crate::error::ScenarioError;
 use crate::model::{RobotProfile, Scenario, SimParams};
 use crate::profiles;
 
-pub(super) const DESCRIPTION: &str = "thesis C1 cost-of-transport track: one lane at 0.05 m with \
-six 3 m sections — flat PVC, grass, black fabric, grass rough, black rough, bare blocks (10 cm \
-blocks ≤ 8 cm) — each followed by flat; CoT 20–55, hexapod-rss adaptive gait; one tour along the \
-lane.";
+pub(super) const DESCRIPTION: &str = "Prágr18 cost-of-transport track: one lane at 0.05 m with six \
+3 m sections — flat PVC, grass, black fabric, grass rough, black rough, bare blocks (10 cm blocks \
+≤ 8 cm) — each followed by flat; CoT 20–55, hexapod-rss adaptive gait; one tour along the lane.";
 
 /// Terrain indices: PVC flooring.
 pub const FLAT: u8 = 0;
@@ -153,7 +152,7 @@ fn terrains(robot: &RobotProfile) -> TerrainTable {
         .into_iter()
         .fold(TerrainTable::new(), |t, (i, n, cot, sf, look)| {
             // P = CoT · m g v, v = v_max · sf; both gaits respond alike (the drive uses the
-            // adaptive one, as in the thesis).
+            // adaptive one, as in the paper).
             let r = powered(sf, cot * mg * adaptive * sf);
             t.add(i, n, &[("adaptive", r.clone()), ("regular", r)], look)
         })

@@ -1,6 +1,6 @@
-//! What the two courtyards (`001` §5.1) share: gray and red pavement that both gaits cross at
+//! What the two courtyards (Prágr22 §5.1) share: gray and red pavement that both gaits cross at
 //! full speed, green and brown turf on which the fast gait gets stuck and the tall gait reaches
-//! 0.8 of its speed, and the strategy parameters of `001` Table 3.
+//! 0.8 of its speed, and the strategy parameters of Prágr22 Table 3.
 
 use strider_core::Rgb8;
 
@@ -20,7 +20,7 @@ pub(super) const BROWN_TURF: u8 = 3;
 pub(super) const GREEN: Rgb8 = Rgb8::new(50, 150, 50);
 pub(super) const BROWN: Rgb8 = Rgb8::new(130, 90, 50);
 
-/// The strategies of `001`, which Table 3 parametrises.
+/// The strategies of Prágr22, which Table 3 parametrises.
 pub(super) const STRATEGIES: [&str; 3] = ["gtsp", "greedy", "spatial-only"];
 
 /// Pavement and turf: the green turf's elevation texture is `green_texture`; `brown` names and
@@ -50,7 +50,7 @@ pub(super) fn terrains(green_texture: f32, brown: (&str, Look)) -> TerrainTable 
         .add(BROWN_TURF, brown.0, &turf, brown.1)
 }
 
-/// `001` Table 3 values for the `001` strategies; `large` selects the right column. (Table 3's
+/// Prágr22 Table 3 values for the Prágr22 strategies; `large` selects the right column. (Table 3's
 /// v_max is the robot profile's fastest gait.)
 pub(super) fn table3(large: bool) -> toml::Table {
     let pick = |small: f64, big: f64| if large { big } else { small };

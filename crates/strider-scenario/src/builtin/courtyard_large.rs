@@ -1,4 +1,4 @@
-//! `courtyard-large` (`001` §5.1.2): 20 × 25 m at 0.10 m, rooms and a corridor formed by 0.5 m
+//! `courtyard-large` (Prágr22 §5.1.2): 20 × 25 m at 0.10 m, rooms and a corridor formed by 0.5 m
 //! walls, 0.5–1 m boxes, patches of gray/red pavement, green turf and brown-green turf.
 //!
 //! Layout rules (every seed):
@@ -23,8 +23,8 @@ use crate::error::ScenarioError;
 use crate::model::{Scenario, SimParams, World};
 use crate::profiles;
 
-pub(super) const DESCRIPTION: &str = "001 §5.1.2 large courtyard: 20×25 m at 0.10 m, rooms and a \
-corridor walled at 0.5 m, boxes, gray/red pavement, green and brown-green turf (fast stuck, tall \
+pub(super) const DESCRIPTION: &str = "Prágr22 §5.1.2 large courtyard: 20×25 m at 0.10 m, rooms and \
+a corridor walled at 0.5 m, boxes, gray/red pavement, green and brown-green turf (fast stuck, tall \
 0.8), hexapod-large with a 10 m omnidirectional sensor, Table 3 right column; one \
 counter-clockwise tour of 8 waypoints.";
 
@@ -64,7 +64,7 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
         frame,
         profiles::hexapod_large(),
     )
-    // `001` Table 3, right column.
+    // Prágr22 Table 3, right column.
     .map(|m| MapParams {
         sigma_d: OMNI_SIGMA,
         k_d: 0.0,

@@ -1,4 +1,4 @@
-//! `courtyard-small` (`001` §5.1.1): a 6 × 5 m flat courtyard at 0.05 m with gray pavement, a
+//! `courtyard-small` (Prágr22 §5.1.1): a 6 × 5 m flat courtyard at 0.05 m with gray pavement, a
 //! thin red pavement line and green/brown turf covering about a third of the area.
 //!
 //! Layout rules (every seed):
@@ -28,10 +28,10 @@ use crate::ground_truth::{flood_fill, point_in_mask};
 use crate::model::{Scenario, World};
 use crate::profiles;
 
-pub(super) const DESCRIPTION: &str = "001 §5.1.1 small courtyard: 6×5 m at 0.05 m, gray pavement \
-with a thin red line, green and brown turf (~1/3; fast gait gets stuck, tall 0.8), hexapod-small, \
-Table 3 left column; tour 1 = four corners counter-clockwise (turf shortcut vs pavement detour \
-on the right, turf at the top-left), tour 2 = 20 random admissible points.";
+pub(super) const DESCRIPTION: &str = "Prágr22 §5.1.1 small courtyard: 6×5 m at 0.05 m, gray \
+pavement with a thin red line, green and brown turf (~1/3; fast gait gets stuck, tall 0.8), \
+hexapod-small, Table 3 left column; tour 1 = four corners counter-clockwise (turf shortcut vs \
+pavement detour on the right, turf at the top-left), tour 2 = 20 random admissible points.";
 
 /// Turf terrain indices.
 pub const TURF: [u8; 2] = [GREEN_TURF, BROWN_TURF];
@@ -50,7 +50,7 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
         frame,
         profiles::hexapod_small(),
     )
-    // `001` Table 3, left column.
+    // Prágr22 Table 3, left column.
     .map(|m| MapParams {
         r_sensor: 2.5,
         c_radius: 0.5,

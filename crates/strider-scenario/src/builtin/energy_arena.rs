@@ -1,8 +1,8 @@
-//! `energy-arena` (`003`): a 2 × 1.5 m flat floor at 0.05 m of smooth timber (0.63 W at
+//! `energy-arena` (MartinCorke): a 2 × 1.5 m flat floor at 0.05 m of smooth timber (0.63 W at
 //! 0.1 m/s) with a grey carpet band (1.21 W) lying across the straight lines from the base to the
 //! three waypoints; a timber gap at one end of the band leaves an energy-cheaper detour. The rover
-//! draws a 0.21 W hotel load; the benchmark runs 25 tours (`strategy.tours.n_tours`). As in `003` §4
-//! the pose arrives at 30 Hz and the power at 10 Hz, both noisy.
+//! draws a 0.21 W hotel load; the benchmark runs 25 tours (`strategy.tours.n_tours`). As in
+//! MartinCorke §4 the pose arrives at 30 Hz and the power at 10 Hz, both noisy.
 
 use rand::{RngExt, rngs::ChaCha8Rng};
 use strider_core::{Point2, Rgb8};
@@ -19,9 +19,9 @@ use crate::ground_truth::point_in_mask;
 use crate::model::{Scenario, SimParams, World};
 use crate::profiles;
 
-pub(super) const DESCRIPTION: &str = "003 energy arena: 2×1.5 m at 0.05 m, smooth timber (0.63 W \
-at 0.1 m/s) with a grey carpet band (1.21 W) across the straight lines between base and the 3 \
-waypoints, rover-small (hotel load 0.21 W); tour = base + 3 waypoints, 25 tours.";
+pub(super) const DESCRIPTION: &str = "MartinCorke energy arena: 2×1.5 m at 0.05 m, smooth timber \
+(0.63 W at 0.1 m/s) with a grey carpet band (1.21 W) across the straight lines between base and \
+the 3 waypoints, rover-small (hotel load 0.21 W); tour = base + 3 waypoints, 25 tours.";
 
 /// Terrain indices.
 pub const TIMBER: u8 = 0;
@@ -34,9 +34,10 @@ const W: f64 = 2.0;
 const H: f64 = 1.5;
 const RES: f64 = 0.05;
 
-/// `003` §4: the overhead ArUco tracker updates the pose at 30 Hz and the robot logs its motor
-/// power at 10 Hz. Both are noisy: a few millimetres and about a degree of tracker jitter (a
-/// 100 mm marker seen by a webcam from about 1.5 m), and the default 5 % on the power reading.
+/// MartinCorke §4: the overhead ArUco tracker updates the pose at 30 Hz and the robot logs its
+/// motor power at 10 Hz. Both are noisy: a few millimetres and about a degree of tracker jitter
+/// (a 100 mm marker seen by a webcam from about 1.5 m), and the default 5 % on the power
+/// reading.
 fn sim_params() -> SimParams {
     SimParams {
         pose_rate_hz: 30.0,

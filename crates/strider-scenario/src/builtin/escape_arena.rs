@@ -1,4 +1,4 @@
-//! `escape-arena` (thesis C4 §5.2): about 7 × 5 m (35 m²) at 0.05 m in three sections with no
+//! `escape-arena` (Prágr23 §5.2): about 7 × 5 m (35 m²) at 0.05 m in three sections with no
 //! line of sight between them: an office room with rigid wooden boxes and white walls, a purple
 //! fabric curtain in its wall to a corridor, and a second curtain splitting the corridor.
 //!
@@ -21,9 +21,9 @@ use crate::error::ScenarioError;
 use crate::model::{Scenario, TerrainType, World};
 use crate::profiles;
 
-pub(super) const DESCRIPTION: &str = "Thesis C4 §5.2 escape arena: ~35 m² at 0.05 m, an office \
-with rigid wooden boxes and white walls, a purple curtain (0.5–1 N) to a corridor that a second \
-curtain splits; three sections without line of sight, hexapod-bumper (t_trav 0.12 m, F_trav 2 N).";
+pub(super) const DESCRIPTION: &str = "Prágr23 §5.2 escape arena: ~35 m² at 0.05 m, an office with \
+rigid wooden boxes and white walls, a purple curtain (0.5–1 N) to a corridor that a second curtain \
+splits; three sections without line of sight, hexapod-bumper (t_trav 0.12 m, F_trav 2 N).";
 
 /// Terrain indices.
 pub const FLOOR: u8 = 0;

@@ -1,4 +1,4 @@
-//! `lab-track` (`000` §V): a 4 × 3 m fenced laboratory test track at 0.05 m with flat PVC,
+//! `lab-track` (Prágr19 §V): a 4 × 3 m fenced laboratory test track at 0.05 m with flat PVC,
 //! turf-like grass, red carpet, wooden cubes (10 × 10 cm blocks up to 8 cm high, one patch of
 //! about 2.3 × 1.2 m as in the paper), a ramp (up to 10 cm) and stairs (4 cm steps).
 //!
@@ -7,7 +7,7 @@
 //! slots; PVC fills the gaps. Ramps and stairs are humps (up then down) along a random axis.
 //! Every step is below ρ_obstacle, so everything inside the fence is passable.
 //!
-//! Cost (`000`: roll variance over a 10 s window): flat 0.005, grass/carpet 0.008, ramp 0.02,
+//! Cost (Prágr19: roll variance over a 10 s window): flat 0.005, grass/carpet 0.008, ramp 0.02,
 //! cubes 0.03, stairs 0.05; the regular gait is faster but doubles the roll variance on cubes
 //! and stairs. The simulator adds the noise (`sim.proprio_noise`).
 
@@ -25,8 +25,8 @@ use crate::error::ScenarioError;
 use crate::model::{GaitResponse, Scenario};
 use crate::profiles;
 
-pub(super) const DESCRIPTION: &str = "000 §V laboratory test track: 4×3 m fenced arena at 0.05 m \
-with flat PVC, grass, red carpet, wooden cubes (≤ 8 cm), a ramp and 4 cm stairs; cost = roll \
+pub(super) const DESCRIPTION: &str = "Prágr19 §V laboratory test track: 4×3 m fenced arena at 0.05 \
+m with flat PVC, grass, red carpet, wooden cubes (≤ 8 cm), a ramp and 4 cm stairs; cost = roll \
 variance (regular gait doubled on cubes/stairs), hexapod-rss; one tour over the terrain patches.";
 
 /// Terrain indices.
@@ -55,8 +55,8 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
 }
 
 pub(super) const DESCRIPTION_LARGE: &str = "lab-track on a 5×4 m floor (same terrains, rules and \
-costs): its Mcost reaches the ≥ 900 traversable 10 cm cells at which 000 reported planning times \
-(23.2 s at 910 cells), which the 4×3 m track minus the robot's inflation cannot (≈ 760).";
+costs): its Mcost reaches the ≥ 900 traversable 10 cm cells at which Prágr19 reported planning \
+times (23.2 s at 910 cells), which the 4×3 m track minus the robot's inflation cannot (≈ 760).";
 
 pub(super) fn generate_large(seed: u64) -> Result<Scenario, ScenarioError> {
     generate_sized(seed, "lab-track-large", DESCRIPTION_LARGE, SIZE_LARGE)
@@ -239,7 +239,7 @@ impl Slots {
     }
 }
 
-/// The `rbcm-greedy` parameters, with `000` Table I's λ_score per gait.
+/// The `rbcm-greedy` parameters, with Prágr19 Table I's λ_score per gait.
 fn rbcm_params() -> toml::Table {
     let mut table = strategy::params(
         &[
@@ -247,7 +247,7 @@ fn rbcm_params() -> toml::Table {
             ("cost_window_s", 10.0),
             ("delta_desc", 0.15),
             ("r_spatial", 0.4),
-            // `000` rbcm-greedy (Alg. 1, Eq. 15–16).
+            // Prágr19 rbcm-greedy (Alg. 1, Eq. 15–16).
             ("delta_score", 0.5),
             ("lambda_score", 0.001),
             // Expert priors sized to roll variances of 0.005–0.1 rad²: σ_s 0.02,
