@@ -36,6 +36,18 @@ fn sim_at(world: World, sim: SimParams, start: (f64, f64), seed: u64) -> Simulat
     Simulator::new(&sc(world, sim, Pose2::new(start.0, start.1, 0.0)), seed).unwrap()
 }
 
+/// The noiseless test robot walking from (1, 1) towards (4, 1) for `limit` seconds across a
+/// strip of terrain `t`, `z` high, at x = 2.5–2.6 m.
+fn walk_across_strip(t: u8, z: f32, seed: u64, limit: f64) -> (Simulator, Rec, MotionState) {
+    let mut world = flat_world(100, 40, 0.05);
+    fill(&mut world, 50, 52, 0, 40, z, t);
+    let mut sim = sim_at(world, noiseless(), (1.0, 1.0), seed);
+    sim.follow(&[Point2::new(4.0, 1.0)]);
+    let mut rec = Rec::default();
+    let st = run(&mut sim, &mut rec, limit);
+    (sim, rec, st)
+}
+
 fn run(sim: &mut Simulator, rec: &mut Rec, limit: f64) -> MotionState {
     let mut st = MotionState::default();
     while sim.now() < limit {
@@ -133,12 +145,7 @@ fn turns_in_place_then_walks() {
 
 #[test]
 fn a_wall_blocks_and_presses_the_bumper() {
-    let mut world = flat_world(100, 40, 0.05);
-    fill(&mut world, 50, 52, 0, 40, 0.5, WALL);
-    let mut sim = sim_at(world, noiseless(), (1.0, 1.0), 6);
-    sim.follow(&[Point2::new(4.0, 1.0)]);
-    let mut rec = Rec::default();
-    let st = run(&mut sim, &mut rec, 200.0);
+    let (mut sim, mut rec, st) = walk_across_strip(WALL, 0.5, 6, 200.0);
     assert!(st.blocked && !st.idle);
     let x = sim.pose().x;
     assert!(x < 2.5 && x > 2.45, "{x}");
@@ -173,12 +180,7 @@ fn a_wall_blocks_and_presses_the_bumper() {
 
 #[test]
 fn curtains_are_pushed_through() {
-    let mut world = flat_world(100, 40, 0.05);
-    fill(&mut world, 50, 52, 0, 40, 0.8, CURTAIN);
-    let mut sim = sim_at(world, noiseless(), (1.0, 1.0), 7);
-    sim.follow(&[Point2::new(4.0, 1.0)]);
-    let mut rec = Rec::default();
-    let st = run(&mut sim, &mut rec, 400.0);
+    let (sim, rec, st) = walk_across_strip(CURTAIN, 0.8, 7, 400.0);
     assert!(st.idle && !st.blocked);
     assert!((sim.body_z() - 0.0).abs() < 1e-9);
     let forces: Vec<f64> = rec
@@ -195,15 +197,12 @@ fn curtains_are_pushed_through() {
     assert!(rec.poses.iter().all(|p| p.position.z.abs() < 1e-9));
 
     // A box needing 15 N is not pushed by a 3-N robot: blocked, bumper at 3 N.
-    let mut world = flat_world(100, 40, 0.05);
-    fill(&mut world, 50, 52, 0, 40, 0.4, BOX);
-    let mut sim = sim_at(world.clone(), noiseless(), (1.0, 1.0), 7);
-    sim.follow(&[Point2::new(4.0, 1.0)]);
-    let mut rec = Rec::default();
-    assert!(run(&mut sim, &mut rec, 400.0).blocked);
+    let (_, rec, st) = walk_across_strip(BOX, 0.4, 7, 400.0);
+    assert!(st.blocked);
     // Through the servo torque and back (the Prágr23 Table 4 calibration): equal up to rounding.
     assert!((rec.proprio.last().unwrap().bumper_force - 3.0).abs() < 1e-9);
     // A robot that cannot push is stopped by the curtain; without a bumper it feels nothing.
+    let mut world = flat_world(100, 40, 0.05);
     fill(&mut world, 50, 52, 0, 40, 0.8, CURTAIN);
     let mut s = sc(world, noiseless(), Pose2::new(1.0, 1.0, 0.0));
     s.robot.max_push_force_n = 0.0;
