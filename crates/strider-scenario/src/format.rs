@@ -45,8 +45,8 @@
 //! [[terrain]]
 //! index = 1
 //! name = "turf"
-//! vibration = 0.0           # optional, m/s² (`004`)
-//! energy_per_m = 1.0        # optional, relative (`004`)
+//! vibration = 0.0           # optional, m/s² (Nardi19)
+//! energy_per_m = 1.0        # optional, relative (Nardi19)
 //! gaits.fast = { speed_factor = 0.02, stuck = true }
 //! gaits.tall = { speed_factor = 0.8, roll_variance = 0.0, power_w = 0.0 }
 //!
@@ -65,7 +65,7 @@
 //! # sensors = [{ kind = "rgb-d", hfov_deg = 87.0, vfov_deg = 58.0, width_px = 160,
 //! #              height_px = 120, tilt_deg = 16.0, range = 2.5, height = 0.3 }]
 //!
-//! [map]                     # MapParams; every key optional (defaults: `001` Table 3 left)
+//! [map]                     # MapParams; every key optional (defaults: Prágr22 Table 3 left)
 //! cell_size = 0.05
 //! r_robot = 0.25
 //!

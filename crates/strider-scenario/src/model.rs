@@ -15,9 +15,10 @@ pub struct GaitResponse {
     pub speed_factor: f64,
     /// The robot gets stuck: its speed collapses to ≤ 2 % of the gait's maximum.
     pub stuck: bool,
-    /// Variance of the body roll angle while walking here, rad² (`000` cost).
+    /// Variance of the body roll angle while walking here, rad² (Prágr19 cost).
     pub roll_variance: f64,
-    /// Electrical power draw while walking here at the achieved speed, watts (C1, `003`).
+    /// Electrical power draw while walking here at the achieved speed, watts (Prágr18,
+    /// MartinCorke).
     pub power_w: f64,
 }
 
@@ -43,13 +44,13 @@ pub struct TerrainType {
     /// Response per gait, keyed by gait name; a gait not listed gets [`GaitResponse::default`].
     #[serde(default)]
     pub gaits: BTreeMap<String, GaitResponse>,
-    /// Vertical-acceleration RMS while driving here, m/s² (`004`).
+    /// Vertical-acceleration RMS while driving here, m/s² (Nardi19).
     #[serde(default)]
     pub vibration: f64,
-    /// Relative energy per metre (`004`).
+    /// Relative energy per metre (Nardi19).
     #[serde(default = "one")]
     pub energy_per_m: f64,
-    /// Force needed to push through this cell when it looks like an obstacle, newtons (C4);
+    /// Force needed to push through this cell when it looks like an obstacle, newtons (Prágr23);
     /// `None`: rigid (cannot be pushed through).
     #[serde(default)]
     pub push_force_n: Option<f64>,
@@ -161,7 +162,7 @@ impl World {
     pub fn contains(&self, p: Point2) -> bool {
         self.index_at(p).is_some()
     }
-    /// Ground-truth passability of every cell (`001` Eq. 7–9 on the true elevation, all cells
+    /// Ground-truth passability of every cell (Prágr22 Eq. 7–9 on the true elevation, all cells
     /// known), row-major like the layers.
     pub fn gt_passability(&self, rho_obstacle: f64) -> Vec<Passability> {
         dense_passability(
@@ -188,7 +189,7 @@ impl World {
     }
 }
 
-/// A locomotion gait of a robot profile (`001` Table 2).
+/// A locomotion gait of a robot profile (Prágr22 Table 2).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GaitSpec {
@@ -276,7 +277,7 @@ pub struct RobotProfile {
     /// Mass, kg (cost of transport).
     #[serde(default = "one")]
     pub mass_kg: f64,
-    /// Hotel load (power drawn at rest), watts (`003`).
+    /// Hotel load (power drawn at rest), watts (MartinCorke).
     #[serde(default)]
     pub hotel_load_w: f64,
     /// Highest step the robot can physically climb, metres (the simulator refuses steeper
@@ -286,10 +287,10 @@ pub struct RobotProfile {
     /// Turning rate in place, rad/s.
     #[serde(default = "half")]
     pub turn_rate: f64,
-    /// Has a haptic bumper (C4).
+    /// Has a haptic bumper (Prágr23).
     #[serde(default)]
     pub bumper: bool,
-    /// Largest force the robot exerts when walking into an obstacle, newtons (C4): cells whose
+    /// Largest force the robot exerts when walking into an obstacle, newtons (Prágr23): cells whose
     /// terrain's `push_force_n` is at most this can be pushed through. 0: cannot push.
     #[serde(default)]
     pub max_push_force_n: f64,
@@ -363,7 +364,7 @@ impl Bounds {
     }
 }
 
-/// A benchmark tour: waypoints visited in order (`001` §5).
+/// A benchmark tour: waypoints visited in order (Prágr22 §5).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Tour {

@@ -1,8 +1,8 @@
 //! Reading and writing the three PNG layers with exact bit depths (via the `png` crate, which
 //! keeps palette indices and 16-bit samples untouched).
 //!
-//! Buffers here are in image order (top row first); [`crate::format`] flips them to the model's
-//! row 0 = lowest y.
+//! Buffers here are in image order (top row first); flipping them to the model's row 0 = lowest y
+//! is the scenario loader's business, not this module's.
 
 use std::fs::File;
 use std::io::{BufReader, BufWriter};

@@ -63,7 +63,7 @@ fn rgbd(range: f64, height: f64, yaw_deg: f64) -> SensorSpec {
     }
 }
 
-/// `001` real robot / small simulation: gaits fast 0.05 and tall 0.0125 m/s (Table 2), RGB-D
+/// Prágr22 real robot / small simulation: gaits fast 0.05 and tall 0.0125 m/s (Table 2), RGB-D
 /// 87°, 2.5 m range at 0.3 m, r_robot 0.25 m.
 pub fn hexapod_small() -> RobotProfile {
     RobotProfile {
@@ -81,7 +81,7 @@ pub fn hexapod_small() -> RobotProfile {
     }
 }
 
-/// `001` large simulation: gaits fast 0.25 and tall 0.0625 m/s, omnidirectional 10 m sensor
+/// Prágr22 large simulation: gaits fast 0.25 and tall 0.0625 m/s, omnidirectional 10 m sensor
 /// (720 × 48 beams, −40°…+10°, 0.5 m high), r_robot 0.40 m.
 pub fn hexapod_large() -> RobotProfile {
     RobotProfile {
@@ -110,7 +110,7 @@ pub fn hexapod_large() -> RobotProfile {
     }
 }
 
-/// `000` (RSS): gaits regular 0.07 (default) and adaptive 0.05 m/s, RGB-D 87°, 2.5 m, body
+/// Prágr19 (RSS): gaits regular 0.07 (default) and adaptive 0.05 m/s, RGB-D 87°, 2.5 m, body
 /// 0.45 × 0.40 m (footprint radius 0.30 m, the half-diagonal).
 pub fn hexapod_rss() -> RobotProfile {
     RobotProfile {
@@ -128,7 +128,7 @@ pub fn hexapod_rss() -> RobotProfile {
     }
 }
 
-/// Thesis C4: one gait (walk 0.05 m/s), RGB-D cameras front and rear (2 m), 0.40 m square body
+/// Prágr23: one gait (walk 0.05 m/s), RGB-D cameras front and rear (2 m), 0.40 m square body
 /// (footprint radius 0.28 m), haptic bumper; pushes with up to 3 N (curtains need 0.5–1 N,
 /// walls and boxes ≥ 10 N; the strategy's F_trav is 2 N).
 pub fn hexapod_bumper() -> RobotProfile {
@@ -147,7 +147,7 @@ pub fn hexapod_bumper() -> RobotProfile {
     }
 }
 
-/// `003`: a small wheeled rover, one speed 0.1 m/s, no exteroception, radius 0.05 m, hotel
+/// MartinCorke: a small wheeled rover, one speed 0.1 m/s, no exteroception, radius 0.05 m, hotel
 /// load 0.21 W.
 pub fn rover_small() -> RobotProfile {
     RobotProfile {
@@ -165,7 +165,7 @@ pub fn rover_small() -> RobotProfile {
     }
 }
 
-/// `004`: Clearpath Husky, 1.0 m/s, no exteroception (an aerial image is given), radius 0.5 m.
+/// Nardi19: Clearpath Husky, 1.0 m/s, no exteroception (an aerial image is given), radius 0.5 m.
 pub fn husky() -> RobotProfile {
     RobotProfile {
         name: "husky".into(),

@@ -73,6 +73,15 @@ fn unknown_builtin_lists_the_valid_names() {
     assert_eq!(s.world_seed, 3);
 }
 
+/// The ground-truth admissible cells of `s`, and those of them reachable from the start.
+fn admissible_and_reachable(s: &Scenario) -> (Vec<bool>, Vec<bool>) {
+    let w = &s.world;
+    let adm = w.gt_admissible(s.map.rho_obstacle, s.map.r_robot);
+    let start = w.index_at(s.start.position()).unwrap();
+    let reach = flood_fill(&adm, w.width(), w.height(), start);
+    (adm, reach)
+}
+
 fn on(s: &Scenario, p: Point2, set: &[u8]) -> bool {
     s.world
         .index_at(p)
@@ -151,13 +160,7 @@ fn courtyard_large_is_connected() {
         assert_eq!((w.width(), w.height()), (200, 250));
         assert_eq!(s.map.r_robot, 0.40);
         assert_eq!(s.tours[0].waypoints.len(), 8);
-        let adm = w.gt_admissible(s.map.rho_obstacle, s.map.r_robot);
-        let reach = flood_fill(
-            &adm,
-            w.width(),
-            w.height(),
-            w.index_at(s.start.position()).unwrap(),
-        );
+        let (adm, reach) = admissible_and_reachable(&s);
         assert_eq!(
             reach, adm,
             "seed {seed}: admissible cells unreachable from the start"
@@ -172,13 +175,7 @@ fn escape_arena_curtains_separate_sections() {
     for seed in 1..=5 {
         let s = make("escape-arena", seed);
         let w = &s.world;
-        let adm = w.gt_admissible(s.map.rho_obstacle, s.map.r_robot);
-        let reach = flood_fill(
-            &adm,
-            w.width(),
-            w.height(),
-            w.index_at(s.start.position()).unwrap(),
-        );
+        let (_, reach) = admissible_and_reachable(&s);
         let sections = &s.tours[0].waypoints;
         assert_eq!(sections.len(), 3);
         assert!(point_in_mask(w, &reach, sections[0]));

@@ -169,6 +169,13 @@ fn load_err(dir: &Path) -> (ScenarioError, String) {
     (e, m)
 }
 
+/// The error of loading the example with its first `from` replaced by `to`.
+fn edited_err(tag: &str, from: &str, to: &str) -> (ScenarioError, String) {
+    let dir = fixture(tag);
+    edit_toml(&dir, from, to);
+    load_err(&dir)
+}
+
 #[test]
 fn documented_example_loads() {
     let dir = fixture("ok");
@@ -305,20 +312,14 @@ fn unknown_terrain_index() {
 
 #[test]
 fn bad_resolution_and_origin() {
-    let dir = fixture("res");
-    edit_toml(&dir, "resolution = 0.05", "resolution = -0.05");
-    let (_, m) = load_err(&dir);
+    let (_, m) = edited_err("res", "resolution = 0.05", "resolution = -0.05");
     assert!(
         m.contains("scenario.toml: [world] resolution must be a positive number"),
         "{m}"
     );
-    let dir = fixture("res0");
-    edit_toml(&dir, "resolution = 0.05", "resolution = 0.0");
-    let (_, m) = load_err(&dir);
+    let (_, m) = edited_err("res0", "resolution = 0.05", "resolution = 0.0");
     assert!(m.contains("resolution must be a positive"), "{m}");
-    let dir = fixture("origin");
-    edit_toml(&dir, "origin = [0.0, 0.0]", "origin = [0.03, 0.0]");
-    let (_, m) = load_err(&dir);
+    let (_, m) = edited_err("origin", "origin = [0.0, 0.0]", "origin = [0.03, 0.0]");
     assert!(
         m.contains("[world] origin [0.03, 0] must be a multiple of the resolution"),
         "{m}"
@@ -339,13 +340,11 @@ fn bad_resolution_and_origin() {
 
 #[test]
 fn malformed_toml_has_line_and_column() {
-    let dir = fixture("toml");
-    edit_toml(
-        &dir,
+    let (e, m) = edited_err(
+        "toml",
         "[sim]\nspeed_noise = 0.05",
         "[sim]\nspeed_noise = = 0.05",
     );
-    let (e, m) = load_err(&dir);
     let ScenarioError::Toml { line, column, .. } = e else {
         panic!("{m}")
     };
@@ -361,13 +360,11 @@ fn malformed_toml_has_line_and_column() {
         "{m}"
     );
     // Unknown keys and wrong types are TOML errors too.
-    let dir = fixture("toml2");
-    edit_toml(
-        &dir,
+    let (e, m) = edited_err(
+        "toml2",
         "[sim]\nspeed_noise = 0.05",
         "[sim]\nspeed_nois = 0.05",
     );
-    let (e, m) = load_err(&dir);
     assert!(
         matches!(e, ScenarioError::Toml { .. }) && m.contains("speed_nois"),
         "{m}"
@@ -376,24 +373,20 @@ fn malformed_toml_has_line_and_column() {
 
 #[test]
 fn unknown_gait_and_profile() {
-    let dir = fixture("gait");
-    edit_toml(
-        &dir,
+    let (_, m) = edited_err(
+        "gait",
         "gaits.tall = { speed_factor = 0.8,",
         "gaits.trot = { speed_factor = 0.8,",
     );
-    let (_, m) = load_err(&dir);
     assert!(
         m.contains("[[terrain]] 'turf' (index 1): unknown gait 'trot'") && m.contains("fast, tall"),
         "{m}"
     );
-    let dir = fixture("profile");
-    edit_toml(
-        &dir,
+    let (_, m) = edited_err(
+        "profile",
         "profile = \"hexapod-small\"",
         "profile = \"hexapod-tiny\"",
     );
-    let (_, m) = load_err(&dir);
     assert!(
         m.contains("[robot] unknown profile 'hexapod-tiny'") && m.contains("hexapod-large"),
         "{m}"
@@ -402,16 +395,12 @@ fn unknown_gait_and_profile() {
 
 #[test]
 fn start_and_tours_outside_the_world() {
-    let dir = fixture("start");
-    edit_toml(&dir, "x = 0.6", "x = 7.5");
-    let (_, m) = load_err(&dir);
+    let (_, m) = edited_err("start", "x = 0.6", "x = 7.5");
     assert!(
         m.contains("[start] (7.5, 0.6) lies outside the world [0, 6] × [0, 5] m"),
         "{m}"
     );
-    let dir = fixture("tour");
-    edit_toml(&dir, "{ x = 5.4, y = 4.4 }", "{ x = 5.4, y = -4.4 }");
-    let (_, m) = load_err(&dir);
+    let (_, m) = edited_err("tour", "{ x = 5.4, y = 4.4 }", "{ x = 5.4, y = -4.4 }");
     assert!(
         m.contains("[[tours]] 'corners' waypoint 3: (5.4, -4.4) lies outside the world"),
         "{m}"

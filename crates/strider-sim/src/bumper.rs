@@ -1,4 +1,4 @@
-//! The haptic bumper of thesis C4 (§5.1, Table 4): a servomotor on a parallelogram hinge that
+//! The haptic bumper of Prágr23 (§5.1, Table 4): a servomotor on a parallelogram hinge that
 //! reports *torque*, turned into force by a calibration table interpolated with a cubic spline.
 //!
 //! The simulator reproduces that chain so the autonomy stack sees what the real bumper reports:
@@ -6,8 +6,9 @@
 //! the robot's maximum push force against a rigid obstacle) is turned into the servo torque
 //! τ = s⁻¹(F) through the calibration spline s, the servo's measurement noise is applied to τ
 //! (multiplicative, the proprioception noise fraction), and the reading is F̂ = s(τ̂), clamped ≥ 0.
-//! Optionally a fraction of readings are spikes (the hinge bouncing, C4 §5.1 "an outlier caused by
-//! bumper motion") or NaN (a dropped servo packet), for testing the consumers' robustness.
+//! Optionally a fraction of readings are spikes (the hinge bouncing, Prágr23 §5.1 "an outlier
+//! caused by bumper motion") or NaN (a dropped servo packet), for testing the consumers'
+//! robustness.
 //!
 //! The spline is the monotone piecewise-cubic Hermite interpolant (Fritsch–Carlson) of Table 4:
 //! a calibration must be monotone to be inverted, and the natural cubic spline through Table 4
@@ -15,9 +16,9 @@
 
 use serde::{Deserialize, Serialize};
 
-/// C4 Table 4: servo torque (N·m) of the calibration points.
+/// Prágr23 Table 4: servo torque (N·m) of the calibration points.
 pub const C4_TABLE4_TORQUE_NM: [f64; 7] = [0.0, 0.17, 0.34, 0.51, 0.60, 0.79, 10.0];
-/// C4 Table 4: force (N) of the calibration points (the last pair is the table's limit value
+/// Prágr23 Table 4: force (N) of the calibration points (the last pair is the table's limit value
 /// "used in interpolation; not actually measured").
 pub const C4_TABLE4_FORCE_N: [f64; 7] = [0.0, 1.05, 2.02, 3.10, 4.09, 6.34, 100.0];
 
@@ -42,14 +43,14 @@ pub struct BumperCalibration {
 }
 
 impl Default for BumperCalibration {
-    /// C4 Table 4.
+    /// Prágr23 Table 4.
     fn default() -> Self {
         Self::c4_table4()
     }
 }
 
 impl BumperCalibration {
-    /// The calibration of C4 Table 4.
+    /// The calibration of Prágr23 Table 4.
     pub fn c4_table4() -> Self {
         Self::new(&C4_TABLE4_TORQUE_NM, &C4_TABLE4_FORCE_N)
             .unwrap_or_else(|_| unreachable!("Table 4 is monotone"))
@@ -162,7 +163,7 @@ pub struct BumperParams {
 }
 
 impl Default for BumperParams {
-    /// C4 Table 4, no faults.
+    /// Prágr23 Table 4, no faults.
     fn default() -> Self {
         Self {
             calibration: BumperCalibration::c4_table4(),
@@ -184,7 +185,7 @@ mod tests {
         for (t, f) in C4_TABLE4_TORQUE_NM.iter().zip(C4_TABLE4_FORCE_N) {
             assert!((c.force(*t) - f).abs() < 1e-9, "s({t}) = {}", c.force(*t));
         }
-        // The C4 threshold F_trav = 2 N sits near 0.34 N·m.
+        // The Prágr23 threshold F_trav = 2 N sits near 0.34 N·m.
         assert!((c.torque(2.02) - 0.34).abs() < 1e-9);
     }
 

@@ -95,187 +95,279 @@ pub fn coverage_path(
     let d = world.resolution;
     let (w, h) = (world.rect.width as usize, world.rect.height as usize);
     let adm = admissible_cells(world, robot);
-    let centre = |k: usize| world.rect.cell(k).center(d);
     let Some(s) = nearest_admissible(world, &adm, start.position()) else {
         return vec![start.position()];
     };
-
-    // The reachable component.
     let grid = Grid { w, h, ok: &adm };
-    let mut comp = vec![false; w * h];
-    let mut stack = vec![s];
-    comp[s] = true;
-    let mut nb = Vec::with_capacity(8);
-    while let Some(k) = stack.pop() {
-        grid.neighbours(k, &mut nb);
-        for &(n, _) in &nb {
-            if !comp[n] {
-                comp[n] = true;
-                stack.push(n);
-            }
-        }
-    }
-
-    // Lanes along the longer axis of the component's bounding box.
-    let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
-    for k in (0..w * h).filter(|&k| comp[k]) {
-        let (x, y) = (k % w, k / w);
-        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
-    }
-    let along_x = x1 - x0 >= y1 - y0;
-    let step = if lane_spacing.is_finite() && lane_spacing > 0.0 {
+    let comp = grid.component(s);
+    let spacing_ok = lane_spacing.is_finite() && lane_spacing > 0.0;
+    let step = if spacing_ok {
         ((lane_spacing / d).round() as usize).max(1)
     } else {
         1
     };
-    let (lane_lo, lane_hi, pos_lo, pos_hi) = if along_x {
-        (y0, y1, x0, x1)
-    } else {
-        (x0, x1, y0, y1)
-    };
-    let index = |lane: usize, pos: usize| {
-        if along_x {
-            lane * w + pos
-        } else {
-            pos * w + lane
-        }
-    };
-    let mut targets = Vec::new();
-    let mut lane = lane_lo + step / 2;
-    while lane <= lane_hi {
-        let mut pos = pos_lo;
-        while pos <= pos_hi {
-            if comp[index(lane, pos)] {
-                let a = pos;
-                while pos < pos_hi && comp[index(lane, pos + 1)] {
-                    pos += 1;
-                }
-                targets.push(Target::Run(index(lane, a), index(lane, pos)));
-            }
-            pos += 1;
-        }
-        lane += step;
-    }
-
-    // Cells left uncovered by the lanes get waypoints of their own.
-    let radius = if lane_spacing.is_finite() && lane_spacing > 0.0 {
+    let lanes = Lanes::along_longer_axis(&comp, w);
+    let mut targets = lanes.runs(&comp, step);
+    let radius = if spacing_ok {
         lane_spacing / 2.0
     } else {
         d / 2.0
     };
-    let disc = disc_offsets(radius, d);
-    let mut covered = vec![false; w * h];
-    let stamp = |covered: &mut [bool], k: usize| {
-        let (x, y) = ((k % w) as i64, (k / w) as i64);
-        for &(dx, dy) in &disc {
-            let (nx, ny) = (x + dx as i64, y + dy as i64);
-            if nx >= 0 && ny >= 0 && nx < w as i64 && ny < h as i64 {
-                covered[ny as usize * w + nx as usize] = true;
+    lanes.cover_the_rest(&comp, &mut targets, &disc_offsets(radius, d), h);
+    let cells = grid.chain(s, &targets);
+    straight_stretches_merged(cells, w)
+        .into_iter()
+        .map(|k| world.rect.cell(k).center(d))
+        .collect()
+}
+
+impl Grid<'_> {
+    /// The cells 8-connected to `s` (without corner cutting).
+    fn component(&self, s: usize) -> Vec<bool> {
+        let mut comp = vec![false; self.w * self.h];
+        let mut stack = vec![s];
+        comp[s] = true;
+        let mut nb = Vec::with_capacity(8);
+        while let Some(k) = stack.pop() {
+            self.neighbours(k, &mut nb);
+            for &(n, _) in &nb {
+                if !comp[n] {
+                    comp[n] = true;
+                    stack.push(n);
+                }
             }
         }
-    };
-    for t in &targets {
-        if let Target::Run(a, b) = *t {
-            let (la, lb) = (
-                if along_x { a % w } else { a / w },
-                if along_x { b % w } else { b / w },
-            );
-            let lane = if along_x { a / w } else { a % w };
-            for p in la..=lb {
-                stamp(&mut covered, index(lane, p));
-            }
-        }
+        comp
     }
-    for k in 0..w * h {
-        if comp[k] && !covered[k] {
-            targets.push(Target::Point(k));
-            stamp(&mut covered, k);
+
+    /// The cells of a path from `s` through every piece of `targets`, always going next to the
+    /// piece nearest by path length (shortest 8-connected paths, runs driven end to end).
+    fn chain(&self, s: usize, targets: &[Target]) -> Vec<usize> {
+        let n = self.w * self.h;
+        let mut endpoint = vec![NO_TARGET; n];
+        for (i, t) in targets.iter().enumerate() {
+            match *t {
+                Target::Run(a, b) => {
+                    endpoint[a] = i as u32;
+                    endpoint[b] = i as u32;
+                }
+                Target::Point(k) => endpoint[k] = i as u32,
+            }
+        }
+        let mut search = Search::new(n);
+        let mut cells: Vec<usize> = vec![s];
+        let mut cur = s;
+        for _ in 0..targets.len() {
+            let Some(entry) = search.nearest_endpoint(self, cur, &endpoint) else {
+                break; // cannot happen: every piece lies in the component
+            };
+            cells.extend(search.path_to(entry, cur));
+            cur = match targets[endpoint[entry] as usize] {
+                Target::Run(a, b) => {
+                    endpoint[a] = NO_TARGET;
+                    endpoint[b] = NO_TARGET;
+                    let exit = if entry == a { b } else { a };
+                    if exit != entry {
+                        cells.push(exit);
+                    }
+                    exit
+                }
+                Target::Point(k) => {
+                    endpoint[k] = NO_TARGET;
+                    k
+                }
+            };
+        }
+        cells
+    }
+}
+
+/// No piece of the plan ends at this cell.
+const NO_TARGET: u32 = u32::MAX;
+
+/// Dijkstra state reused between searches (only the cells a search touched are reset).
+struct Search {
+    dist: Vec<u32>,
+    parent: Vec<usize>,
+    touched: Vec<usize>,
+    nb: Vec<(usize, u32)>,
+}
+
+impl Search {
+    fn new(n: usize) -> Self {
+        Self {
+            dist: vec![u32::MAX; n],
+            parent: vec![usize::MAX; n],
+            touched: Vec::new(),
+            nb: Vec::with_capacity(8),
         }
     }
 
-    // Chain the pieces greedily by path length.
-    const NONE: u32 = u32::MAX;
-    let mut endpoint = vec![NONE; w * h];
-    for (i, t) in targets.iter().enumerate() {
-        match *t {
-            Target::Run(a, b) => {
-                endpoint[a] = i as u32;
-                endpoint[b] = i as u32;
-            }
-            Target::Point(k) => endpoint[k] = i as u32,
+    /// The cell nearest to `from` by path length where a remaining piece ends.
+    fn nearest_endpoint(
+        &mut self,
+        grid: &Grid<'_>,
+        from: usize,
+        endpoint: &[u32],
+    ) -> Option<usize> {
+        for &k in &self.touched {
+            self.dist[k] = u32::MAX;
+            self.parent[k] = usize::MAX;
         }
-    }
-    let mut cells: Vec<usize> = vec![s];
-    let mut cur = s;
-    let mut left = targets.len();
-    let mut dist = vec![u32::MAX; w * h];
-    let mut parent = vec![usize::MAX; w * h];
-    let mut touched: Vec<usize> = Vec::new();
-    while left > 0 {
-        // Dijkstra from `cur` until the nearest endpoint of a remaining piece.
-        for &k in &touched {
-            dist[k] = u32::MAX;
-            parent[k] = usize::MAX;
-        }
-        touched.clear();
+        self.touched.clear();
         let mut heap = BinaryHeap::new();
-        dist[cur] = 0;
-        touched.push(cur);
-        heap.push(Reverse((0u32, cur)));
-        let mut found = None;
+        self.dist[from] = 0;
+        self.touched.push(from);
+        heap.push(Reverse((0u32, from)));
         while let Some(Reverse((dk, k))) = heap.pop() {
-            if dk > dist[k] {
+            if dk > self.dist[k] {
                 continue;
             }
-            if endpoint[k] != NONE {
-                found = Some(k);
-                break;
+            if endpoint[k] != NO_TARGET {
+                return Some(k);
             }
-            grid.neighbours(k, &mut nb);
-            for &(n, c) in &nb {
+            grid.neighbours(k, &mut self.nb);
+            for &(n, c) in &self.nb {
                 let nd = dk + c;
-                if nd < dist[n] {
-                    if dist[n] == u32::MAX {
-                        touched.push(n);
+                if nd < self.dist[n] {
+                    if self.dist[n] == u32::MAX {
+                        self.touched.push(n);
                     }
-                    dist[n] = nd;
-                    parent[n] = k;
+                    self.dist[n] = nd;
+                    self.parent[n] = k;
                     heap.push(Reverse((nd, n)));
                 }
             }
         }
-        let Some(entry) = found else {
-            break; // cannot happen: every piece lies in the component
-        };
-        let mut back = vec![entry];
-        while let Some(&k) = back.last() {
-            if k == cur {
-                break;
-            }
-            back.push(parent[k]);
-        }
-        back.pop(); // `cur` is already on the path
-        cells.extend(back.into_iter().rev());
-        let t = endpoint[entry] as usize;
-        cur = match targets[t] {
-            Target::Run(a, b) => {
-                endpoint[a] = NONE;
-                endpoint[b] = NONE;
-                let exit = if entry == a { b } else { a };
-                if exit != entry {
-                    cells.push(exit);
-                }
-                exit
-            }
-            Target::Point(k) => {
-                endpoint[k] = NONE;
-                k
-            }
-        };
-        left -= 1;
+        None
     }
 
-    // Cells → waypoints, dropping points in the middle of straight stretches.
+    /// The cells of the last search's path from `from` to `to`, without `from`.
+    fn path_to(&self, to: usize, from: usize) -> impl Iterator<Item = usize> + use<> {
+        let mut back = vec![to];
+        while let Some(&k) = back.last() {
+            if k == from {
+                break;
+            }
+            back.push(self.parent[k]);
+        }
+        back.pop(); // `from` is already on the path
+        back.into_iter().rev()
+    }
+}
+
+/// Boustrophedon lanes over a component: lanes run along `pos`, one every `step` along `lane`.
+struct Lanes {
+    along_x: bool,
+    w: usize,
+    lane_lo: usize,
+    lane_hi: usize,
+    pos_lo: usize,
+    pos_hi: usize,
+}
+
+impl Lanes {
+    /// Lanes along the longer axis of the component's bounding box.
+    fn along_longer_axis(comp: &[bool], w: usize) -> Self {
+        let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
+        for k in (0..comp.len()).filter(|&k| comp[k]) {
+            let (x, y) = (k % w, k / w);
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+        let along_x = x1 - x0 >= y1 - y0;
+        let (lane_lo, lane_hi, pos_lo, pos_hi) = if along_x {
+            (y0, y1, x0, x1)
+        } else {
+            (x0, x1, y0, y1)
+        };
+        Self {
+            along_x,
+            w,
+            lane_lo,
+            lane_hi,
+            pos_lo,
+            pos_hi,
+        }
+    }
+
+    /// Layer index of position `pos` on lane `lane`.
+    fn index(&self, lane: usize, pos: usize) -> usize {
+        if self.along_x {
+            lane * self.w + pos
+        } else {
+            pos * self.w + lane
+        }
+    }
+
+    /// (lane, position) of layer index `k`.
+    fn lane_pos(&self, k: usize) -> (usize, usize) {
+        if self.along_x {
+            (k / self.w, k % self.w)
+        } else {
+            (k % self.w, k / self.w)
+        }
+    }
+
+    /// Every maximal straight run of component cells on every `step`-th lane.
+    fn runs(&self, comp: &[bool], step: usize) -> Vec<Target> {
+        let mut targets = Vec::new();
+        let mut lane = self.lane_lo + step / 2;
+        while lane <= self.lane_hi {
+            let mut pos = self.pos_lo;
+            while pos <= self.pos_hi {
+                if comp[self.index(lane, pos)] {
+                    let a = pos;
+                    while pos < self.pos_hi && comp[self.index(lane, pos + 1)] {
+                        pos += 1;
+                    }
+                    targets.push(Target::Run(self.index(lane, a), self.index(lane, pos)));
+                }
+                pos += 1;
+            }
+            lane += step;
+        }
+        targets
+    }
+
+    /// Adds a visiting point for every component cell not within `disc` of a lane run or of an
+    /// earlier point (`h`: rows of the layer).
+    fn cover_the_rest(
+        &self,
+        comp: &[bool],
+        targets: &mut Vec<Target>,
+        disc: &[(i32, i32)],
+        h: usize,
+    ) {
+        let w = self.w;
+        let mut covered = vec![false; w * h];
+        let stamp = |covered: &mut [bool], k: usize| {
+            let (x, y) = ((k % w) as i64, (k / w) as i64);
+            for &(dx, dy) in disc {
+                let (nx, ny) = (x + dx as i64, y + dy as i64);
+                if nx >= 0 && ny >= 0 && nx < w as i64 && ny < h as i64 {
+                    covered[ny as usize * w + nx as usize] = true;
+                }
+            }
+        };
+        for t in targets.iter() {
+            if let Target::Run(a, b) = *t {
+                let ((lane, la), (_, lb)) = (self.lane_pos(a), self.lane_pos(b));
+                for p in la..=lb {
+                    stamp(&mut covered, self.index(lane, p));
+                }
+            }
+        }
+        for k in 0..w * h {
+            if comp[k] && !covered[k] {
+                targets.push(Target::Point(k));
+                stamp(&mut covered, k);
+            }
+        }
+    }
+}
+
+/// The path's cells without repeats and without the cells in the middle of straight stretches.
+fn straight_stretches_merged(mut cells: Vec<usize>, w: usize) -> Vec<usize> {
     cells.dedup();
     let xy: Vec<(i64, i64)> = cells
         .iter()
@@ -290,7 +382,7 @@ pub fn coverage_path(
         .filter(|&i| {
             i == 0 || i + 1 == cells.len() || dir(xy[i - 1], xy[i]) != dir(xy[i], xy[i + 1])
         })
-        .map(|i| centre(cells[i]))
+        .map(|i| cells[i])
         .collect()
 }
 

@@ -165,238 +165,19 @@ impl Heightfield {
 
     /// [`Self::cast`] for a unit direction (not checked).
     pub fn cast_unit(&self, origin: Point3, u: [f64; 3], max_range: f64) -> Option<RayHit> {
-        let valid =
-            max_range > 0.0 && origin.x.is_finite() && origin.y.is_finite() && origin.z.is_finite();
-        if !valid {
-            return None;
-        }
-        let d = self.resolution;
-        let (w, h) = (self.rect.width as i64, self.rect.height as i64);
-        if w == 0 || h == 0 {
-            return None;
-        }
-        let x0 = self.rect.min.i as f64 * d;
-        let y0 = self.rect.min.j as f64 * d;
-        // Local coordinates: the world rectangle spans [0, W] × [0, H].
-        let (ox, oy, oz) = (origin.x - x0, origin.y - y0, origin.z);
-        let (ux, uy, uz) = (u[0], u[1], u[2]);
-        // Reciprocals once: a camera ray is short over flat ground, so the per-ray divisions
-        // cost more than its cell steps. (±∞ for a zero component, never used: every use below
-        // is guarded by a `!= 0` test.)
-        let (rx, ry) = (1.0 / ux, 1.0 / uy);
-        let (ww, hh) = (w as f64 * d, h as f64 * d);
-
-        // Clip the horizontal projection to the rectangle (slab method), remembering the slab
-        // entry times to know which border an outside ray enters through.
-        let mut t1 = max_range;
-        let mut enter = [f64::NEG_INFINITY; 2];
-        for (a, (o, v, r, extent)) in [(ox, ux, rx, ww), (oy, uy, ry, hh)].into_iter().enumerate() {
-            if v == 0.0 {
-                if o < 0.0 || o >= extent {
-                    return None;
-                }
-            } else {
-                let (ta, tb) = ((0.0 - o) * r, (extent - o) * r);
-                enter[a] = ta.min(tb);
-                t1 = t1.min(ta.max(tb));
-            }
-        }
-        let t0 = enter[0].max(enter[1]).max(0.0);
-        if t0 > t1 {
-            return None;
-        }
-        // A descending ray cannot hit anything while it is above the highest column: start
-        // where it comes down to that height (exact, and most of a downward-looking camera's
-        // rays over open ground).
-        // (Aim 1 nm above it so rounding never puts the start below a column's top.)
-        let z_top = self.max_elevation + 1e-9;
-        let t_top = if uz < 0.0 && oz > z_top {
-            (oz - z_top) / -uz
-        } else {
-            f64::NEG_INFINITY
-        };
-        let skipped = t_top > t0;
-        let t0 = t0.max(t_top);
-        if t0 > t1 {
-            return None;
-        }
-
-        // The first cell: the one the ray is inside just after t0.
-        let mut ix = start_index_at(ox, ux, t0, d, w);
-        let mut iy = start_index_at(oy, uy, t0, d, h);
-        let (sx, sy): (i64, i64) = (if ux > 0.0 { 1 } else { -1 }, if uy > 0.0 { 1 } else { -1 });
-        let boundary = |k: i64, s: i64| {
-            if s > 0 {
-                (k + 1) as f64 * d
-            } else {
-                k as f64 * d
-            }
-        };
-        let mut tx = if ux != 0.0 {
-            (boundary(ix, sx) - ox) * rx
-        } else {
-            f64::INFINITY
-        };
-        let mut ty = if uy != 0.0 {
-            (boundary(iy, sy) - oy) * ry
-        } else {
-            f64::INFINITY
-        };
-        let tdx = if ux != 0.0 {
-            d * rx.abs()
-        } else {
-            f64::INFINITY
-        };
-        let tdy = if uy != 0.0 {
-            d * ry.abs()
-        } else {
-            f64::INFINITY
-        };
-
-        // Which boundary the ray entered the current cell through (for exact side-face points).
-        #[derive(Clone, Copy)]
-        enum Entry {
-            Start,
-            X(f64),
-            Y(f64),
-        }
-        let mut entry = if skipped {
-            Entry::Start
-        } else if t0 > 0.0 && enter[0] >= enter[1] {
-            Entry::X(if ux > 0.0 { 0.0 } else { ww })
-        } else if t0 > 0.0 {
-            Entry::Y(if uy > 0.0 { 0.0 } else { hh })
-        } else {
-            Entry::Start
-        };
-        let mut t_in = t0;
-        let zmax = self.max_elevation;
-        // A ray brought down to the highest column's top by the skip above is already where
-        // the terrain can begin (most of a downward camera's rays over open ground): its first
-        // block is not tested, only the blocks it enters later.
-        let mut block = if skipped {
-            (ix >> BLOCK_SHIFT, iy >> BLOCK_SHIFT)
-        } else {
-            (-1, -1)
-        };
+        let mut walk = Walk::start(self, origin, u, max_range)?;
         loop {
-            // Entering a new block: if the ray stays above its highest column until it leaves
-            // the block, jump to the first cell past the block.
-            if (ix >> BLOCK_SHIFT, iy >> BLOCK_SHIFT) != block {
-                block = (ix >> BLOCK_SHIFT, iy >> BLOCK_SHIFT);
-                let bmax = self.block_max[block.1 as usize * self.blocks_w + block.0 as usize];
-                let exit_time = |b: i64, o: f64, v: f64, r: f64| {
-                    let edge = if v > 0.0 { (b + 1) * BLOCK } else { b * BLOCK };
-                    if v != 0.0 {
-                        (edge as f64 * d - o) * r
-                    } else {
-                        f64::INFINITY
-                    }
-                };
-                let (tbx, tby) = (
-                    exit_time(block.0, ox, ux, rx),
-                    exit_time(block.1, oy, uy, ry),
-                );
-                let t_exit = tbx.min(tby).min(t1);
-                let z_low = oz + uz * if uz < 0.0 { t_exit } else { t_in };
-                if z_low > bmax {
-                    if t_exit >= t1 || (uz >= 0.0 && oz + uz * t_in >= zmax) {
-                        return None;
-                    }
-                    // Step out through the face the ray leaves by (x on a tie, as the cell
-                    // traversal does); the other index follows the exit point.
-                    t_in = t_exit;
-                    // The first index past the block along the exit axis (None: the ray leaves
-                    // the world), and the other axis' index at the exit point, kept in the
-                    // block's span.
-                    let step_out = |b: i64, s: i64, n: i64| {
-                        let k = if s > 0 {
-                            (b + 1) * BLOCK
-                        } else {
-                            b * BLOCK - 1
-                        };
-                        (0..n).contains(&k).then_some(k)
-                    };
-                    let follow = |o: f64, v: f64, b: i64, n: i64| {
-                        start_index_at(o, v, t_in, d, n)
-                            .clamp((b * BLOCK).min(n - 1), ((b + 1) * BLOCK - 1).min(n - 1))
-                    };
-                    if tbx <= tby {
-                        ix = step_out(block.0, sx, w)?;
-                        iy = follow(oy, uy, block.1, h);
-                        entry = Entry::X(boundary(ix - sx, sx));
-                    } else {
-                        iy = step_out(block.1, sy, h)?;
-                        ix = follow(ox, ux, block.0, w);
-                        entry = Entry::Y(boundary(iy - sy, sy));
-                    }
-                    tx = if ux != 0.0 {
-                        (boundary(ix, sx) - ox) * rx
-                    } else {
-                        f64::INFINITY
-                    };
-                    ty = if uy != 0.0 {
-                        (boundary(iy, sy) - oy) * ry
-                    } else {
-                        f64::INFINITY
-                    };
-                    continue;
+            if walk.enters_new_block() {
+                match walk.pass_over_block() {
+                    Block::Inside => {}
+                    Block::Passed => continue,
+                    Block::Miss => return None,
                 }
             }
-            let k = (iy * w + ix) as usize;
-            let top = self.elevation[k];
-            let t_out = tx.min(ty).min(t1);
-            let z_in = oz + uz * t_in;
-            let cell = || Cell::new(self.rect.min.i + ix as i32, self.rect.min.j + iy as i32);
-            if z_in < top {
-                // Entered below the top: vertical side face (or started inside the column).
-                let (px, py) = match entry {
-                    Entry::X(bx) => (bx, oy + uy * t_in),
-                    Entry::Y(by) => (ox + ux * t_in, by),
-                    Entry::Start => (ox + ux * t_in, oy + uy * t_in),
-                };
-                return Some(RayHit {
-                    point: Point3::new(px + x0, py + y0, z_in),
-                    range: t_in,
-                    cell: cell(),
-                    index: k,
-                    face: Face::Side,
-                });
-            }
-            if uz < 0.0 {
-                let z_out = oz + uz * t_out;
-                if z_out <= top {
-                    let t = ((top - oz) / uz).clamp(t_in, t_out);
-                    return Some(RayHit {
-                        point: Point3::new(ox + ux * t + x0, oy + uy * t + y0, top),
-                        range: t,
-                        cell: cell(),
-                        index: k,
-                        face: Face::Top,
-                    });
-                }
-            } else if z_in >= zmax {
-                // Level or rising above every column: nothing can be hit any more.
-                return None;
-            }
-            if t_out >= t1 {
-                return None;
-            }
-            t_in = t_out;
-            if tx <= ty {
-                ix += sx;
-                entry = Entry::X(boundary(ix - sx, sx));
-                tx += tdx;
-                if ix < 0 || ix >= w {
-                    return None;
-                }
-            } else {
-                iy += sy;
-                entry = Entry::Y(boundary(iy - sy, sy));
-                ty += tdy;
-                if iy < 0 || iy >= h {
-                    return None;
-                }
+            match walk.cross_cell() {
+                Crossing::Hit(hit) => return Some(hit),
+                Crossing::Miss => return None,
+                Crossing::Next => {}
             }
         }
     }
@@ -440,4 +221,412 @@ fn start_index_at(o: f64, v: f64, t: f64, d: f64, n: i64) -> i64 {
         k -= 1;
     }
     k.clamp(0, n - 1)
+}
+
+/// Which boundary the ray entered the current cell through (for exact side-face points).
+#[derive(Clone, Copy)]
+enum Entry {
+    /// The ray starts in the cell (or was brought down into it by the top skip).
+    Start,
+    /// Through the boundary x = the value (local frame).
+    X(f64),
+    /// Through the boundary y = the value (local frame).
+    Y(f64),
+}
+
+/// What a ray does in a cell.
+enum Crossing {
+    /// It meets the cell's column.
+    Hit(RayHit),
+    /// It meets nothing any more.
+    Miss,
+    /// It goes on to the next cell.
+    Next,
+}
+
+/// What a ray does in a block it enters.
+enum Block {
+    /// It may meet a column: walk its cells.
+    Inside,
+    /// It stays above the block's highest column and was moved past the block.
+    Passed,
+    /// It meets nothing any more (leaves the world or its range above the block, or climbs
+    /// above every column).
+    Miss,
+}
+
+/// A ray walking through the cell columns it crosses (3-D DDA) in the heightfield's local
+/// frame, where the world rectangle spans `[0, W] × [0, H]` metres.
+struct Walk<'a> {
+    hf: &'a Heightfield,
+    /// Cell size.
+    d: f64,
+    /// Columns and rows.
+    w: i64,
+    h: i64,
+    /// World coordinates of the local origin.
+    x0: f64,
+    y0: f64,
+    /// Ray origin, local frame.
+    ox: f64,
+    oy: f64,
+    oz: f64,
+    /// Unit direction.
+    ux: f64,
+    uy: f64,
+    uz: f64,
+    /// Reciprocals of `ux`, `uy` (±∞ for a zero component, never used: every use is guarded
+    /// by a `!= 0` test).
+    rx: f64,
+    ry: f64,
+    /// Where the ray leaves the world rectangle or its range.
+    t1: f64,
+    /// The current cell.
+    ix: i64,
+    iy: i64,
+    /// Step direction per axis.
+    sx: i64,
+    sy: i64,
+    /// Distance at which the ray crosses the next x and y cell boundary.
+    tx: f64,
+    ty: f64,
+    /// Distance between successive x and y boundary crossings.
+    tdx: f64,
+    tdy: f64,
+    entry: Entry,
+    /// Distance at which the ray entered the current cell.
+    t_in: f64,
+    /// The current block (−1, −1 before the first).
+    block: (i64, i64),
+}
+
+impl<'a> Walk<'a> {
+    /// The walk of a ray from `origin` along unit `u` up to `max_range`, starting in the first
+    /// cell where it can meet a column; `None` when it cannot meet any.
+    #[inline]
+    fn start(hf: &'a Heightfield, origin: Point3, u: [f64; 3], max_range: f64) -> Option<Self> {
+        let valid =
+            max_range > 0.0 && origin.x.is_finite() && origin.y.is_finite() && origin.z.is_finite();
+        if !valid {
+            return None;
+        }
+        let d = hf.resolution;
+        let (w, h) = (hf.rect.width as i64, hf.rect.height as i64);
+        if w == 0 || h == 0 {
+            return None;
+        }
+        let x0 = hf.rect.min.i as f64 * d;
+        let y0 = hf.rect.min.j as f64 * d;
+        let (ox, oy, oz) = (origin.x - x0, origin.y - y0, origin.z);
+        let (ux, uy, uz) = (u[0], u[1], u[2]);
+        // Reciprocals once: a camera ray is short over flat ground, so the per-ray divisions
+        // cost more than its cell steps.
+        let (rx, ry) = (1.0 / ux, 1.0 / uy);
+        let (ww, hh) = (w as f64 * d, h as f64 * d);
+        let (t0, t1, enter) = clip_to_rect([ox, oy], [ux, uy], [rx, ry], [ww, hh], max_range)?;
+        let (t0, skipped) = skip_to_top(oz, uz, hf.max_elevation, t0);
+        if t0 > t1 {
+            return None;
+        }
+        // The first cell: the one the ray is inside just after t0.
+        let ix = start_index_at(ox, ux, t0, d, w);
+        let iy = start_index_at(oy, uy, t0, d, h);
+        let entry = if skipped {
+            Entry::Start
+        } else if t0 > 0.0 && enter[0] >= enter[1] {
+            Entry::X(if ux > 0.0 { 0.0 } else { ww })
+        } else if t0 > 0.0 {
+            Entry::Y(if uy > 0.0 { 0.0 } else { hh })
+        } else {
+            Entry::Start
+        };
+        // A ray brought down to the highest column's top by the skip is already where the
+        // terrain can begin (most of a downward camera's rays over open ground): its first
+        // block is not tested, only the blocks it enters later.
+        let block = if skipped {
+            (ix >> BLOCK_SHIFT, iy >> BLOCK_SHIFT)
+        } else {
+            (-1, -1)
+        };
+        let mut walk = Self {
+            hf,
+            d,
+            w,
+            h,
+            x0,
+            y0,
+            ox,
+            oy,
+            oz,
+            ux,
+            uy,
+            uz,
+            rx,
+            ry,
+            t1,
+            ix,
+            iy,
+            sx: if ux > 0.0 { 1 } else { -1 },
+            sy: if uy > 0.0 { 1 } else { -1 },
+            tx: f64::INFINITY,
+            ty: f64::INFINITY,
+            tdx: if ux != 0.0 {
+                d * rx.abs()
+            } else {
+                f64::INFINITY
+            },
+            tdy: if uy != 0.0 {
+                d * ry.abs()
+            } else {
+                f64::INFINITY
+            },
+            entry,
+            t_in: t0,
+            block,
+        };
+        walk.aim_at_next_boundaries();
+        Some(walk)
+    }
+
+    /// The coordinate of the boundary of cell `k` (along one axis) that a ray stepping `s`
+    /// leaves it through.
+    #[inline]
+    fn boundary(&self, k: i64, s: i64) -> f64 {
+        if s > 0 {
+            (k + 1) as f64 * self.d
+        } else {
+            k as f64 * self.d
+        }
+    }
+
+    /// Sets the distances of the next x and y boundary crossings from the current cell.
+    #[inline]
+    fn aim_at_next_boundaries(&mut self) {
+        self.tx = if self.ux != 0.0 {
+            (self.boundary(self.ix, self.sx) - self.ox) * self.rx
+        } else {
+            f64::INFINITY
+        };
+        self.ty = if self.uy != 0.0 {
+            (self.boundary(self.iy, self.sy) - self.oy) * self.ry
+        } else {
+            f64::INFINITY
+        };
+    }
+
+    /// True (and remembers the block) when the current cell lies in another block than the
+    /// previous one.
+    #[inline]
+    fn enters_new_block(&mut self) -> bool {
+        let block = (self.ix >> BLOCK_SHIFT, self.iy >> BLOCK_SHIFT);
+        let new = block != self.block;
+        self.block = block;
+        new
+    }
+
+    /// In a block just entered: if the ray stays above the block's highest column until it
+    /// leaves the block, moves it to the first cell past the block.
+    #[inline]
+    fn pass_over_block(&mut self) -> Block {
+        let block = self.block;
+        let bmax = self.hf.block_max[block.1 as usize * self.hf.blocks_w + block.0 as usize];
+        let exit_time = |b: i64, o: f64, v: f64, r: f64| {
+            let edge = if v > 0.0 { (b + 1) * BLOCK } else { b * BLOCK };
+            if v != 0.0 {
+                (edge as f64 * self.d - o) * r
+            } else {
+                f64::INFINITY
+            }
+        };
+        let (tbx, tby) = (
+            exit_time(block.0, self.ox, self.ux, self.rx),
+            exit_time(block.1, self.oy, self.uy, self.ry),
+        );
+        let t_exit = tbx.min(tby).min(self.t1);
+        let (oz, uz) = (self.oz, self.uz);
+        let z_low = oz + uz * if uz < 0.0 { t_exit } else { self.t_in };
+        if z_low > bmax {
+            self.pass_to(t_exit, tbx <= tby)
+        } else {
+            Block::Inside
+        }
+    }
+
+    /// Moves a ray that flies above the current block to the first cell past it, leaving at
+    /// distance `t_exit` through its x face (else its y face).
+    #[inline]
+    fn pass_to(&mut self, t_exit: f64, through_x: bool) -> Block {
+        let block = self.block;
+        let (oz, uz) = (self.oz, self.uz);
+        if t_exit >= self.t1 || (uz >= 0.0 && oz + uz * self.t_in >= self.hf.max_elevation) {
+            return Block::Miss;
+        }
+        // Step out through the face the ray leaves by (x on a tie, as the cell traversal
+        // does); the other index follows the exit point.
+        self.t_in = t_exit;
+        let stepped = if through_x {
+            self.step_out_x(block)
+        } else {
+            self.step_out_y(block)
+        };
+        if stepped.is_none() {
+            return Block::Miss;
+        }
+        self.aim_at_next_boundaries();
+        Block::Passed
+    }
+
+    /// Leaves block `block` through its x face (`None`: the ray leaves the world).
+    #[inline]
+    fn step_out_x(&mut self, block: (i64, i64)) -> Option<()> {
+        self.ix = first_past_block(block.0, self.sx, self.w)?;
+        self.iy = self.index_in_block(self.oy, self.uy, block.1, self.h);
+        self.entry = Entry::X(self.boundary(self.ix - self.sx, self.sx));
+        Some(())
+    }
+
+    /// Leaves block `block` through its y face (`None`: the ray leaves the world).
+    #[inline]
+    fn step_out_y(&mut self, block: (i64, i64)) -> Option<()> {
+        self.iy = first_past_block(block.1, self.sy, self.h)?;
+        self.ix = self.index_in_block(self.ox, self.ux, block.0, self.w);
+        self.entry = Entry::Y(self.boundary(self.iy - self.sy, self.sy));
+        Some(())
+    }
+
+    /// The index along one axis at the exit point (distance `t_in`), kept in block `b`'s span.
+    #[inline]
+    fn index_in_block(&self, o: f64, v: f64, b: i64, n: i64) -> i64 {
+        start_index_at(o, v, self.t_in, self.d, n)
+            .clamp((b * BLOCK).min(n - 1), ((b + 1) * BLOCK - 1).min(n - 1))
+    }
+
+    /// Crosses the current cell: the ray hits its side face when it entered below the top
+    /// (or started inside the column), its top when it descends to it before leaving the cell;
+    /// else it moves on to the next cell unless nothing can be hit any more (it is level or
+    /// rising above every column, or leaves its range or the world).
+    #[inline]
+    fn cross_cell(&mut self) -> Crossing {
+        let k = (self.iy * self.w + self.ix) as usize;
+        let top = self.hf.elevation[k];
+        let t_out = self.tx.min(self.ty).min(self.t1);
+        let z_in = self.oz + self.uz * self.t_in;
+        if z_in < top {
+            return Crossing::Hit(self.side_hit(k, z_in));
+        }
+        if self.uz < 0.0 {
+            let z_out = self.oz + self.uz * t_out;
+            if z_out <= top {
+                let t = ((top - self.oz) / self.uz).clamp(self.t_in, t_out);
+                let (px, py) = (self.ox + self.ux * t, self.oy + self.uy * t);
+                return Crossing::Hit(self.hit(k, Point3::new(px, py, top), t, Face::Top));
+            }
+        } else if z_in >= self.hf.max_elevation {
+            return Crossing::Miss;
+        }
+        if t_out >= self.t1 {
+            return Crossing::Miss;
+        }
+        self.t_in = t_out;
+        let inside = if self.tx <= self.ty {
+            self.ix += self.sx;
+            self.entry = Entry::X(self.boundary(self.ix - self.sx, self.sx));
+            self.tx += self.tdx;
+            self.ix >= 0 && self.ix < self.w
+        } else {
+            self.iy += self.sy;
+            self.entry = Entry::Y(self.boundary(self.iy - self.sy, self.sy));
+            self.ty += self.tdy;
+            self.iy >= 0 && self.iy < self.h
+        };
+        if inside {
+            Crossing::Next
+        } else {
+            Crossing::Miss
+        }
+    }
+
+    /// The hit on the side face of cell `k` the ray entered at height `z_in`: on the boundary
+    /// it crossed.
+    #[inline]
+    fn side_hit(&self, k: usize, z_in: f64) -> RayHit {
+        let t = self.t_in;
+        let (px, py) = match self.entry {
+            Entry::X(bx) => (bx, self.oy + self.uy * t),
+            Entry::Y(by) => (self.ox + self.ux * t, by),
+            Entry::Start => (self.ox + self.ux * t, self.oy + self.uy * t),
+        };
+        self.hit(k, Point3::new(px, py, z_in), t, Face::Side)
+    }
+
+    /// A hit at local point `p`, distance `range`, in cell `k`.
+    #[inline]
+    fn hit(&self, k: usize, p: Point3, range: f64, face: Face) -> RayHit {
+        let min = self.hf.rect.min;
+        RayHit {
+            point: Point3::new(p.x + self.x0, p.y + self.y0, p.z),
+            range,
+            cell: Cell::new(min.i + self.ix as i32, min.j + self.iy as i32),
+            index: k,
+            face,
+        }
+    }
+}
+
+/// Clips the horizontal projection of a ray (local origin `o`, direction `u`, reciprocals `r`)
+/// to the rectangle `[0, extent[0]] × [0, extent[1]]` and to `max_range` (slab method):
+/// `(t0, t1, enter)`, where `enter` holds the slab entry times (to know which border an
+/// outside ray enters through). `None` when the ray misses the rectangle.
+#[inline]
+fn clip_to_rect(
+    o: [f64; 2],
+    u: [f64; 2],
+    r: [f64; 2],
+    extent: [f64; 2],
+    max_range: f64,
+) -> Option<(f64, f64, [f64; 2])> {
+    let mut t1 = max_range;
+    let mut enter = [f64::NEG_INFINITY; 2];
+    for a in 0..2 {
+        if u[a] == 0.0 {
+            if o[a] < 0.0 || o[a] >= extent[a] {
+                return None;
+            }
+        } else {
+            let (ta, tb) = ((0.0 - o[a]) * r[a], (extent[a] - o[a]) * r[a]);
+            enter[a] = ta.min(tb);
+            t1 = t1.min(ta.max(tb));
+        }
+    }
+    let t0 = enter[0].max(enter[1]).max(0.0);
+    if t0 > t1 {
+        return None;
+    }
+    Some((t0, t1, enter))
+}
+
+/// A descending ray cannot hit anything while it is above the highest column (`z_max`): the
+/// distance where it comes down to that height (exact, and most of a downward-looking camera's
+/// rays over open ground) if later than `t0`, and whether that skip applies. It aims 1 nm above
+/// the top so that rounding never puts the start below a column's top.
+#[inline]
+fn skip_to_top(oz: f64, uz: f64, z_max: f64, t0: f64) -> (f64, bool) {
+    let z_top = z_max + 1e-9;
+    let t_top = if uz < 0.0 && oz > z_top {
+        (oz - z_top) / -uz
+    } else {
+        f64::NEG_INFINITY
+    };
+    (t0.max(t_top), t_top > t0)
+}
+
+/// The first index along one axis past block `b` for a ray stepping `s`, if inside `0..n`.
+#[inline]
+fn first_past_block(b: i64, s: i64, n: i64) -> Option<i64> {
+    let k = if s > 0 {
+        (b + 1) * BLOCK
+    } else {
+        b * BLOCK - 1
+    };
+    (0..n).contains(&k).then_some(k)
 }

@@ -30,7 +30,7 @@
 //! * [`sensor`]: RGB-D and omnidirectional sensors with depth and colour noise.
 //! * [`motion`]: path following, terrain-dependent speed, steps, pushing through obstacles.
 //! * [`proprio`]: roll process, power, vibration, bumper.
-//! * [`bumper`]: the C4 bumper's torque→force calibration (Table 4) and faults.
+//! * [`bumper`]: the Prágr23 bumper's torque→force calibration (Table 4) and faults.
 //! * [`terrain`]: the terrain table resolved per gait.
 //! * [`simulator`]: the [`Simulator`] and its event loop.
 //! * [`coverage`]: coverage paths and ground-truth visibility for harnesses.

@@ -13,7 +13,7 @@
 //! 4. Every cell the centre would cross is checked: a cell outside the world, or whose step from
 //!    the ground the robot stands on exceeds `max_step_m`, is refused (the robot does not move and
 //!    reports *blocked*) unless its terrain's `push_force_n` is at most the robot's
-//!    `max_push_force_n` (thesis C4 curtains): then the robot pushes through it, still standing on
+//!    `max_push_force_n` (Prágr23 curtains): then the robot pushes through it, still standing on
 //!    the ground it came from.
 //!
 //! Contact force (read by a bumper): the obstacle's `push_force_n` while pushing through it; the

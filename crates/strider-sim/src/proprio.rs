@@ -3,20 +3,21 @@
 //! * **Roll** follows a zero-mean Gaussian AR(1) (Ornstein–Uhlenbeck) process updated every
 //!   motion step h: φ ← a·φ + sqrt(1 − a²)·σ·ε with a = exp(−h/τ). Its stationary variance is σ²,
 //!   the terrain's per-gait `roll_variance` while the legs cycle and 0 at rest, so the variance of
-//!   a 10-s window of roll samples estimates the terrain's value (`000` cost).
+//!   a 10-s window of roll samples estimates the terrain's value (Prágr19 cost).
 //! * **Power** = (hotel load + P_gait) · (1 + N(0, proprio_noise)), clamped ≥ 0, where P_gait is
 //!   the terrain's per-gait `power_w` whenever the legs cycle and 0 at rest. The draw does *not*
 //!   scale with the achieved speed: the legs cycle at the gait's cadence whatever the ground lets
 //!   the body make of it, so energy per metre grows as 1/speed and a stuck robot burns energy for
-//!   no distance (C1 cost of transport, `003` energy).
+//!   no distance (Prágr18 cost of transport, MartinCorke energy).
 //! * **Vibration** = terrain `vibration` · (1 + N(0, proprio_noise)), clamped ≥ 0, while the body
-//!   moves; 0 when it does not (`004`).
+//!   moves; 0 when it does not (Nardi19).
 //! * **Bumper force** (bumper robots only): the contact force of the motion model (the obstacle's
 //!   push force while pushing through it, the robot's maximum push force against an obstacle it
-//!   cannot pass) as the C4 bumper reports it ([`crate::bumper`]): servo torque τ = s⁻¹(F) of the
-//!   Table 4 calibration spline s, τ · (1 + N(0, proprio_noise)) clamped ≥ 0, reported as s(τ);
+//!   cannot pass) as the Prágr23 bumper reports it ([`crate::bumper`]): servo torque τ = s⁻¹(F)
+//!   of the Table 4 calibration spline s, τ · (1 + N(0, proprio_noise)) clamped ≥ 0, reported as
+//!   s(τ);
 //!   with the configured probabilities a reading in contact is a spike or NaN; 0 when nothing is
-//!   touched (thesis C4).
+//!   touched (Prágr23).
 
 use rand::RngExt;
 use rand::rngs::ChaCha8Rng;
@@ -32,7 +33,7 @@ use crate::terrain::TerrainTable;
 pub struct ProprioParams {
     /// Correlation time τ of the roll process, seconds.
     pub roll_correlation_s: f64,
-    /// The bumper's calibration and faults (thesis C4).
+    /// The bumper's calibration and faults (Prágr23).
     pub bumper: BumperParams,
 }
 

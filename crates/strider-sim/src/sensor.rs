@@ -24,7 +24,7 @@ use rayon::prelude::*;
 use strider_core::{ColoredPoint, Point3, PointCloud, Pose2, Rgb8};
 use strider_scenario::{SensorKind, SensorSpec, SimParams};
 
-use crate::error::{SimError, check};
+use crate::error::{FINITE, POSITIVE, Rule, SimError, check, check_fields};
 use crate::heightfield::Heightfield;
 use crate::seed::{key, stream};
 
@@ -82,34 +82,17 @@ pub struct RangeSensor {
 impl RangeSensor {
     /// Builds the sensor of `spec`; `name` (e.g. `robot.sensors[0]`) prefixes error messages.
     pub fn new(spec: &SensorSpec, name: &str) -> Result<Self, SimError> {
-        check(
-            format!("{name}.range"),
-            spec.range,
-            |v| v > 0.0,
-            "must be positive",
-        )?;
-        check(
-            format!("{name}.height"),
-            spec.height,
-            |_| true,
-            "must be finite",
-        )?;
-        check(
-            format!("{name}.yaw_deg"),
-            spec.yaw_deg,
-            |_| true,
-            "must be finite",
-        )?;
-        check(
-            format!("{name}.rate_hz"),
-            spec.rate_hz,
-            |v| v > 0.0,
-            "must be positive",
+        check_fields(
+            name,
+            &[
+                ("range", spec.range, POSITIVE),
+                ("height", spec.height, FINITE),
+                ("yaw_deg", spec.yaw_deg, FINITE),
+                ("rate_hz", spec.rate_hz, POSITIVE),
+            ],
         )?;
         let yaw = spec.yaw_deg.to_radians();
-        let (sy, cy) = yaw.sin_cos();
-        let mut dirs = Vec::new();
-        match spec.kind {
+        let dirs = match spec.kind {
             SensorKind::RgbD {
                 hfov_deg,
                 vfov_deg,
@@ -117,52 +100,17 @@ impl RangeSensor {
                 height,
                 tilt_deg,
             } => {
-                let fov = |v: f64| v > 0.0 && v < 180.0;
-                check(
-                    format!("{name}.hfov_deg"),
-                    hfov_deg,
-                    fov,
-                    "must be in (0, 180)",
+                check_fields(
+                    name,
+                    &[
+                        ("hfov_deg", hfov_deg, FIELD_OF_VIEW),
+                        ("vfov_deg", vfov_deg, FIELD_OF_VIEW),
+                        ("tilt_deg", tilt_deg, WITHIN_90),
+                        ("width", width as f64, AT_LEAST_ONE),
+                        ("height", height as f64, AT_LEAST_ONE),
+                    ],
                 )?;
-                check(
-                    format!("{name}.vfov_deg"),
-                    vfov_deg,
-                    fov,
-                    "must be in (0, 180)",
-                )?;
-                check(
-                    format!("{name}.tilt_deg"),
-                    tilt_deg,
-                    |v| v.abs() <= 90.0,
-                    "must be within ±90",
-                )?;
-                let pixels = |v: f64| v >= 1.0;
-                check(format!("{name}.width"), width as f64, pixels, "must be ≥ 1")?;
-                check(
-                    format!("{name}.height"),
-                    height as f64,
-                    pixels,
-                    "must be ≥ 1",
-                )?;
-                let (th, tv) = (
-                    (hfov_deg.to_radians() / 2.0).tan(),
-                    (vfov_deg.to_radians() / 2.0).tan(),
-                );
-                let (st, ct) = tilt_deg.to_radians().sin_cos();
-                dirs.reserve(width as usize * height as usize);
-                for r in 0..height {
-                    // Image row 0 at the top.
-                    let v = (1.0 - 2.0 * (r as f64 + 0.5) / height as f64) * tv;
-                    for c in 0..width {
-                        // Image column 0 at the left.
-                        let h = (1.0 - 2.0 * (c as f64 + 0.5) / width as f64) * th;
-                        // Camera frame: x forward, y left, z up; then tilt down, then yaw.
-                        let n = (1.0 + h * h + v * v).sqrt();
-                        let (x, y, z) = (1.0 / n, h / n, v / n);
-                        let (x, z) = (x * ct + z * st, -x * st + z * ct);
-                        dirs.push([x * cy - y * sy, x * sy + y * cy, z]);
-                    }
-                }
+                pinhole_rays(hfov_deg, vfov_deg, (width, height), tilt_deg, yaw)
             }
             SensorKind::Omni {
                 min_elevation_deg,
@@ -170,45 +118,23 @@ impl RangeSensor {
                 columns,
                 rows,
             } => {
-                let elev = |v: f64| v.abs() <= 90.0;
-                check(
-                    format!("{name}.min_elevation_deg"),
-                    min_elevation_deg,
-                    elev,
-                    "must be within ±90",
-                )?;
+                check_fields(name, &[("min_elevation_deg", min_elevation_deg, WITHIN_90)])?;
                 check(
                     format!("{name}.max_elevation_deg"),
                     max_elevation_deg,
-                    |v| elev(v) && v >= min_elevation_deg,
+                    |v| (WITHIN_90.ok)(v) && v >= min_elevation_deg,
                     "must be within ±90 and ≥ min_elevation_deg",
                 )?;
-                let count = |v: f64| v >= 1.0;
-                check(
-                    format!("{name}.columns"),
-                    columns as f64,
-                    count,
-                    "must be ≥ 1",
+                check_fields(
+                    name,
+                    &[
+                        ("columns", columns as f64, AT_LEAST_ONE),
+                        ("rows", rows as f64, AT_LEAST_ONE),
+                    ],
                 )?;
-                check(format!("{name}.rows"), rows as f64, count, "must be ≥ 1")?;
-                dirs.reserve(columns as usize * rows as usize);
-                for r in 0..rows {
-                    let f = if rows > 1 {
-                        r as f64 / (rows - 1) as f64
-                    } else {
-                        0.5
-                    };
-                    let e = (min_elevation_deg + f * (max_elevation_deg - min_elevation_deg))
-                        .to_radians();
-                    let (se, ce) = e.sin_cos();
-                    for c in 0..columns {
-                        let a = yaw + std::f64::consts::TAU * c as f64 / columns as f64;
-                        let (sa, ca) = a.sin_cos();
-                        dirs.push([ce * ca, ce * sa, se]);
-                    }
-                }
+                omni_rays((min_elevation_deg, max_elevation_deg), columns, rows, yaw)
             }
-        }
+        };
         Ok(Self {
             spec: spec.clone(),
             dirs,
@@ -324,6 +250,78 @@ impl RangeSensor {
             ..PointCloud::default()
         }
     }
+}
+
+/// An angle of view in (0°, 180°).
+const FIELD_OF_VIEW: Rule = Rule {
+    ok: |v| v > 0.0 && v < 180.0,
+    requirement: "must be in (0, 180)",
+};
+
+/// An angle within ±90°.
+const WITHIN_90: Rule = Rule {
+    ok: |v| v.abs() <= 90.0,
+    requirement: "must be within ±90",
+};
+
+/// A count of pixels, columns or rows.
+const AT_LEAST_ONE: Rule = Rule {
+    ok: |v| v >= 1.0,
+    requirement: "must be ≥ 1",
+};
+
+/// The rays of a pinhole camera, body frame: one through the centre of each pixel of a
+/// `width × height` image (row 0 at the top, column 0 at the left) spanning `hfov × vfov`,
+/// the optical axis tilted down by `tilt_deg`, then turned by the mounting `yaw` (radians).
+fn pinhole_rays(
+    hfov_deg: f64,
+    vfov_deg: f64,
+    (width, height): (u32, u32),
+    tilt_deg: f64,
+    yaw: f64,
+) -> Vec<[f64; 3]> {
+    let (sy, cy) = yaw.sin_cos();
+    let (th, tv) = (
+        (hfov_deg.to_radians() / 2.0).tan(),
+        (vfov_deg.to_radians() / 2.0).tan(),
+    );
+    let (st, ct) = tilt_deg.to_radians().sin_cos();
+    let mut dirs = Vec::with_capacity(width as usize * height as usize);
+    for r in 0..height {
+        let v = (1.0 - 2.0 * (r as f64 + 0.5) / height as f64) * tv;
+        for c in 0..width {
+            let h = (1.0 - 2.0 * (c as f64 + 0.5) / width as f64) * th;
+            // Camera frame: x forward, y left, z up; then tilt down, then yaw.
+            let n = (1.0 + h * h + v * v).sqrt();
+            let (x, y, z) = (1.0 / n, h / n, v / n);
+            let (x, z) = (x * ct + z * st, -x * st + z * ct);
+            dirs.push([x * cy - y * sy, x * sy + y * cy, z]);
+        }
+    }
+    dirs
+}
+
+/// The rays of an omnidirectional sensor, body frame: `columns` azimuths over 360° from the
+/// mounting `yaw` (radians) times `rows` elevations spread evenly over `elevation_deg` (one row:
+/// the middle).
+fn omni_rays(elevation_deg: (f64, f64), columns: u32, rows: u32, yaw: f64) -> Vec<[f64; 3]> {
+    let (min_deg, max_deg) = elevation_deg;
+    let mut dirs = Vec::with_capacity(columns as usize * rows as usize);
+    for r in 0..rows {
+        let f = if rows > 1 {
+            r as f64 / (rows - 1) as f64
+        } else {
+            0.5
+        };
+        let e = (min_deg + f * (max_deg - min_deg)).to_radians();
+        let (se, ce) = e.sin_cos();
+        for c in 0..columns {
+            let a = yaw + std::f64::consts::TAU * c as f64 / columns as f64;
+            let (sa, ca) = a.sin_cos();
+            dirs.push([ce * ca, ce * sa, se]);
+        }
+    }
+    dirs
 }
 
 /// The noisy return of a hit at true range `r` along unit direction `u`.

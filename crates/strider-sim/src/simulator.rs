@@ -17,9 +17,9 @@ use rand_distr::StandardNormal;
 use strider_core::geom::wrap_angle;
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{GaitId, Point2, Point3, PointCloud, Pose2, PoseStamped};
-use strider_scenario::{RobotProfile, Scenario, SimParams, World};
+use strider_scenario::{RobotProfile, Scenario, SimParams, TerrainType, World};
 
-use crate::error::{SimError, check};
+use crate::error::{NON_NEGATIVE, POSITIVE, SimError, check, check_fields};
 use crate::heightfield::Heightfield;
 use crate::motion::{MotionContext, MotionModel, MotionParams, StepReport};
 use crate::proprio::{ProprioModel, ProprioParams};
@@ -39,16 +39,37 @@ pub struct ModelParams {
     pub proprio: ProprioParams,
 }
 
-/// The simulated robot in its world.
+/// What the simulation runs in and never changes: the world, the robot, the parameters and
+/// the models derived from them.
 #[derive(Debug)]
-pub struct Simulator {
+struct Stage {
     world: World,
     robot: RobotProfile,
     sim: SimParams,
     params: ModelParams,
-    seed: u64,
     heightfield: Heightfield,
     terrain: TerrainTable,
+}
+
+impl Stage {
+    /// What the motion model reads.
+    fn motion(&self) -> MotionContext<'_> {
+        MotionContext {
+            world: &self.world,
+            heightfield: &self.heightfield,
+            terrain: &self.terrain,
+            robot: &self.robot,
+            speed_noise: self.sim.speed_noise,
+            params: &self.params.motion,
+        }
+    }
+}
+
+/// The simulated robot in its world.
+#[derive(Debug)]
+pub struct Simulator {
+    stage: Stage,
+    seed: u64,
     sensors: Vec<RangeSensor>,
     noise: ScanNoise,
     motion: MotionModel,
@@ -95,7 +116,6 @@ impl Simulator {
             .map(|(i, s)| RangeSensor::new(s, &format!("robot.sensors[{i}]")))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self {
-            terrain: TerrainTable::new(world, robot),
             sensor_ticks: vec![0; sensors.len()],
             sensors,
             noise: ScanNoise::from_params(sim),
@@ -108,11 +128,14 @@ impl Simulator {
             pose_ticks: 0,
             proprio_ticks: 0,
             scan_counter: 0,
-            heightfield,
-            world: world.clone(),
-            robot: robot.clone(),
-            sim: sim.clone(),
-            params,
+            stage: Stage {
+                world: world.clone(),
+                robot: robot.clone(),
+                sim: sim.clone(),
+                params,
+                heightfield,
+                terrain: TerrainTable::new(world, robot),
+            },
             seed,
         })
     }
@@ -153,17 +176,17 @@ impl Simulator {
 
     /// The simulated world.
     pub fn world(&self) -> &World {
-        &self.world
+        &self.stage.world
     }
 
     /// The robot profile.
     pub fn robot(&self) -> &RobotProfile {
-        &self.robot
+        &self.stage.robot
     }
 
     /// The world's elevation as ray-castable columns.
     pub fn heightfield(&self) -> &Heightfield {
-        &self.heightfield
+        &self.stage.heightfield
     }
 
     /// The range sensors, in profile order.
@@ -173,7 +196,7 @@ impl Simulator {
 
     /// The model constants in use.
     pub fn params(&self) -> &ModelParams {
-        &self.params
+        &self.stage.params
     }
 
     /// Takes one scan per sensor at the current pose and time without moving (advances the scan
@@ -190,8 +213,8 @@ impl Simulator {
         let sensor = &self.sensors[i];
         let origin: Point3 = sensor.origin(pose, self.motion.ground_z());
         let mut cloud = sensor.scan(
-            &self.heightfield,
-            &self.world.color,
+            &self.stage.heightfield,
+            &self.stage.world.color,
             origin,
             pose.yaw,
             &self.noise,
@@ -204,21 +227,9 @@ impl Simulator {
         cloud
     }
 
-    fn context(&self) -> MotionContext<'_> {
-        MotionContext {
-            world: &self.world,
-            heightfield: &self.heightfield,
-            terrain: &self.terrain,
-            robot: &self.robot,
-            speed_noise: self.sim.speed_noise,
-            params: &self.params.motion,
-        }
-    }
-
     fn pose_message(&mut self, stamp: f64) -> PoseStamped {
         let pose = self.motion.pose();
-        let ctx = self.context();
-        let pitch = self.motion.pitch(&ctx);
+        let pitch = self.motion.pitch(&self.stage.motion());
         let mut noise = |sigma: f64| {
             if sigma > 0.0 {
                 let e: f64 = self.pose_rng.sample(StandardNormal);
@@ -227,8 +238,11 @@ impl Simulator {
                 0.0
             }
         };
-        let (nx, ny) = (noise(self.sim.pose_sigma_xy), noise(self.sim.pose_sigma_xy));
-        let nyaw = noise(self.sim.pose_sigma_yaw);
+        let (nx, ny) = (
+            noise(self.stage.sim.pose_sigma_xy),
+            noise(self.stage.sim.pose_sigma_xy),
+        );
+        let nyaw = noise(self.stage.sim.pose_sigma_yaw);
         PoseStamped {
             stamp,
             position: Point3::new(pose.x + nx, pose.y + ny, self.motion.ground_z()),
@@ -243,20 +257,20 @@ impl Simulator {
     /// with its exact due time.
     fn emit_due(&mut self, sink: &mut dyn SensorSink) {
         let now = self.time + TIME_EPS;
-        while self.pose_ticks as f64 / self.sim.pose_rate_hz <= now {
-            let msg = self.pose_message(self.pose_ticks as f64 / self.sim.pose_rate_hz);
+        while self.pose_ticks as f64 / self.stage.sim.pose_rate_hz <= now {
+            let msg = self.pose_message(self.pose_ticks as f64 / self.stage.sim.pose_rate_hz);
             sink.on_pose(&msg);
             self.pose_ticks += 1;
         }
-        while self.proprio_ticks as f64 / self.sim.proprio_rate_hz <= now {
+        while self.proprio_ticks as f64 / self.stage.sim.proprio_rate_hz <= now {
             let msg = self.proprio.reading(
-                self.proprio_ticks as f64 / self.sim.proprio_rate_hz,
+                self.proprio_ticks as f64 / self.stage.sim.proprio_rate_hz,
                 &self.last_step,
-                &self.terrain,
+                &self.stage.terrain,
                 self.motion.gait(),
-                self.robot.hotel_load_w,
-                self.robot.bumper,
-                self.sim.proprio_noise,
+                self.stage.robot.hotel_load_w,
+                self.stage.robot.bumper,
+                self.stage.sim.proprio_noise,
             );
             sink.on_proprioception(&msg);
             self.proprio_ticks += 1;
@@ -277,10 +291,10 @@ impl Simulator {
 
     /// The next instant something happens after the current time (motion grid or a message).
     fn next_stop(&self, t_end: f64) -> f64 {
-        let dt = self.sim.dt;
+        let dt = self.stage.sim.dt;
         let mut next = ((self.time + TIME_EPS) / dt).floor() * dt + dt;
-        next = next.min((self.pose_ticks as f64) / self.sim.pose_rate_hz);
-        next = next.min((self.proprio_ticks as f64) / self.sim.proprio_rate_hz);
+        next = next.min((self.pose_ticks as f64) / self.stage.sim.pose_rate_hz);
+        next = next.min((self.proprio_ticks as f64) / self.stage.sim.proprio_rate_hz);
         for (s, &n) in self.sensors.iter().zip(&self.sensor_ticks) {
             next = next.min(n as f64 / s.spec().rate_hz);
         }
@@ -301,7 +315,7 @@ impl Robot for Simulator {
 
     /// Selects `gait`; an index outside the profile's gait list is ignored.
     fn set_gait(&mut self, gait: GaitId) {
-        if (gait.0 as usize) < self.robot.gaits.len() {
+        if (gait.0 as usize) < self.stage.robot.gaits.len() {
             self.motion.set_gait(gait.0 as usize);
         }
     }
@@ -319,17 +333,10 @@ impl Robot for Simulator {
             let next = self.next_stop(t_end);
             let h = next - self.time;
             if h > 0.0 {
-                let ctx = MotionContext {
-                    world: &self.world,
-                    heightfield: &self.heightfield,
-                    terrain: &self.terrain,
-                    robot: &self.robot,
-                    speed_noise: self.sim.speed_noise,
-                    params: &self.params.motion,
-                };
+                let ctx = self.stage.motion();
                 self.last_step = self.motion.step(&ctx, &mut self.motion_rng, h);
                 self.proprio
-                    .update(&self.last_step, &self.terrain, self.motion.gait());
+                    .update(&self.last_step, &self.stage.terrain, self.motion.gait());
             }
             self.time = next;
         }
@@ -340,12 +347,32 @@ impl Robot for Simulator {
 
 /// Checks a scenario before simulating it.
 fn validate(s: &Scenario) -> Result<(), SimError> {
-    let w = &s.world;
     if s.robot.gaits.is_empty() {
         return Err(SimError::NoGait {
             profile: s.robot.name.clone(),
         });
     }
+    validate_layers(&s.world)?;
+    validate_robot(&s.robot)?;
+    validate_sim(&s.sim)?;
+    for t in &s.world.terrains {
+        validate_terrain(t)?;
+    }
+    let st = s.start;
+    check("start.yaw", st.yaw, |_| true, "must be finite")?;
+    let inside = Point2::new(st.x, st.y).is_finite() && s.world.index_at(st.position()).is_some();
+    if !inside {
+        return Err(SimError::StartOutsideWorld {
+            x: st.x,
+            y: st.y,
+            rect: describe_rect(&s.world),
+        });
+    }
+    Ok(())
+}
+
+/// A positive cell size and one entry per cell in every layer.
+fn validate_layers(w: &World) -> Result<(), SimError> {
     check(
         "world.resolution",
         w.resolution,
@@ -365,133 +392,60 @@ fn validate(s: &Scenario) -> Result<(), SimError> {
             });
         }
     }
-    for (i, g) in s.robot.gaits.iter().enumerate() {
-        check(
-            format!("robot.gaits[{i}].max_speed"),
-            g.max_speed,
-            |v| v >= 0.0,
-            "must be non-negative",
+    Ok(())
+}
+
+fn validate_robot(r: &RobotProfile) -> Result<(), SimError> {
+    for (i, g) in r.gaits.iter().enumerate() {
+        check_fields(
+            &format!("robot.gaits[{i}]"),
+            &[("max_speed", g.max_speed, NON_NEGATIVE)],
         )?;
     }
-    let r = &s.robot;
-    check(
-        "robot.footprint_radius",
-        r.footprint_radius,
-        |v| v >= 0.0,
-        "must be non-negative",
-    )?;
-    check(
-        "robot.max_step_m",
-        r.max_step_m,
-        |v| v >= 0.0,
-        "must be non-negative",
-    )?;
-    check(
-        "robot.turn_rate",
-        r.turn_rate,
-        |v| v > 0.0,
-        "must be positive",
-    )?;
-    check(
-        "robot.hotel_load_w",
-        r.hotel_load_w,
-        |v| v >= 0.0,
-        "must be non-negative",
-    )?;
-    let p = &s.sim;
-    let nonneg = |v: f64| v >= 0.0;
-    let pos = |v: f64| v > 0.0;
-    for (name, value, ok, req) in [
-        (
-            "sim.depth_sigma",
-            p.depth_sigma,
-            nonneg as fn(f64) -> bool,
-            "must be non-negative",
-        ),
-        ("sim.depth_k", p.depth_k, nonneg, "must be non-negative"),
-        (
-            "sim.color_sigma",
-            p.color_sigma,
-            nonneg,
-            "must be non-negative",
-        ),
-        ("sim.pose_rate_hz", p.pose_rate_hz, pos, "must be positive"),
-        (
-            "sim.pose_sigma_xy",
-            p.pose_sigma_xy,
-            nonneg,
-            "must be non-negative",
-        ),
-        (
-            "sim.pose_sigma_yaw",
-            p.pose_sigma_yaw,
-            nonneg,
-            "must be non-negative",
-        ),
-        (
-            "sim.speed_noise",
-            p.speed_noise,
-            nonneg,
-            "must be non-negative",
-        ),
-        (
-            "sim.proprio_rate_hz",
-            p.proprio_rate_hz,
-            pos,
-            "must be positive",
-        ),
-        (
-            "sim.proprio_noise",
-            p.proprio_noise,
-            nonneg,
-            "must be non-negative",
-        ),
-        ("sim.dt", p.dt, pos, "must be positive"),
-    ] {
-        check(name, value, ok, req)?;
+    check_fields(
+        "robot",
+        &[
+            ("footprint_radius", r.footprint_radius, NON_NEGATIVE),
+            ("max_step_m", r.max_step_m, NON_NEGATIVE),
+            ("turn_rate", r.turn_rate, POSITIVE),
+            ("hotel_load_w", r.hotel_load_w, NON_NEGATIVE),
+        ],
+    )
+}
+
+fn validate_sim(p: &SimParams) -> Result<(), SimError> {
+    check_fields(
+        "sim",
+        &[
+            ("depth_sigma", p.depth_sigma, NON_NEGATIVE),
+            ("depth_k", p.depth_k, NON_NEGATIVE),
+            ("color_sigma", p.color_sigma, NON_NEGATIVE),
+            ("pose_rate_hz", p.pose_rate_hz, POSITIVE),
+            ("pose_sigma_xy", p.pose_sigma_xy, NON_NEGATIVE),
+            ("pose_sigma_yaw", p.pose_sigma_yaw, NON_NEGATIVE),
+            ("speed_noise", p.speed_noise, NON_NEGATIVE),
+            ("proprio_rate_hz", p.proprio_rate_hz, POSITIVE),
+            ("proprio_noise", p.proprio_noise, NON_NEGATIVE),
+            ("dt", p.dt, POSITIVE),
+        ],
+    )
+}
+
+fn validate_terrain(t: &TerrainType) -> Result<(), SimError> {
+    let prefix = format!("world.terrains[{}]", t.name);
+    check_fields(&prefix, &[("vibration", t.vibration, NON_NEGATIVE)])?;
+    if let Some(f) = t.push_force_n {
+        check_fields(&prefix, &[("push_force_n", f, NON_NEGATIVE)])?;
     }
-    for t in &w.terrains {
-        let name = |f: &str| format!("world.terrains[{}].{f}", t.name);
-        check(
-            name("vibration"),
-            t.vibration,
-            nonneg,
-            "must be non-negative",
+    for (g, resp) in &t.gaits {
+        check_fields(
+            &format!("{prefix}.gaits.{g}"),
+            &[
+                ("speed_factor", resp.speed_factor, NON_NEGATIVE),
+                ("roll_variance", resp.roll_variance, NON_NEGATIVE),
+                ("power_w", resp.power_w, NON_NEGATIVE),
+            ],
         )?;
-        if let Some(f) = t.push_force_n {
-            check(name("push_force_n"), f, nonneg, "must be non-negative")?;
-        }
-        for (g, resp) in &t.gaits {
-            let name = |f: &str| format!("world.terrains[{}].gaits.{g}.{f}", t.name);
-            check(
-                name("speed_factor"),
-                resp.speed_factor,
-                nonneg,
-                "must be non-negative",
-            )?;
-            check(
-                name("roll_variance"),
-                resp.roll_variance,
-                nonneg,
-                "must be non-negative",
-            )?;
-            check(
-                name("power_w"),
-                resp.power_w,
-                nonneg,
-                "must be non-negative",
-            )?;
-        }
-    }
-    let st = s.start;
-    check("start.yaw", st.yaw, |_| true, "must be finite")?;
-    let inside = Point2::new(st.x, st.y).is_finite() && w.index_at(st.position()).is_some();
-    if !inside {
-        return Err(SimError::StartOutsideWorld {
-            x: st.x,
-            y: st.y,
-            rect: describe_rect(w),
-        });
     }
     Ok(())
 }

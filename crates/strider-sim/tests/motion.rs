@@ -31,6 +31,23 @@ fn sc(world: World, sim: SimParams, start: Pose2) -> Scenario {
 }
 
 /// Advances until idle or blocked (or `limit` seconds); returns the final state.
+/// A simulator of `world` with the test robot standing at `start`, heading +x.
+fn sim_at(world: World, sim: SimParams, start: (f64, f64), seed: u64) -> Simulator {
+    Simulator::new(&sc(world, sim, Pose2::new(start.0, start.1, 0.0)), seed).unwrap()
+}
+
+/// The noiseless test robot walking from (1, 1) towards (4, 1) for `limit` seconds across a
+/// strip of terrain `t`, `z` high, at x = 2.5–2.6 m.
+fn walk_across_strip(t: u8, z: f32, seed: u64, limit: f64) -> (Simulator, Rec, MotionState) {
+    let mut world = flat_world(100, 40, 0.05);
+    fill(&mut world, 50, 52, 0, 40, z, t);
+    let mut sim = sim_at(world, noiseless(), (1.0, 1.0), seed);
+    sim.follow(&[Point2::new(4.0, 1.0)]);
+    let mut rec = Rec::default();
+    let st = run(&mut sim, &mut rec, limit);
+    (sim, rec, st)
+}
+
 fn run(sim: &mut Simulator, rec: &mut Rec, limit: f64) -> MotionState {
     let mut st = MotionState::default();
     while sim.now() < limit {
@@ -45,7 +62,7 @@ fn run(sim: &mut Simulator, rec: &mut Rec, limit: f64) -> MotionState {
 fn straight_time(terrain: u8, sim_params: SimParams, seed: u64) -> f64 {
     let mut world = flat_world(100, 40, 0.05);
     fill(&mut world, 0, 100, 0, 40, 0.0, terrain);
-    let mut sim = Simulator::new(&sc(world, sim_params, Pose2::new(0.5, 1.0, 0.0)), seed).unwrap();
+    let mut sim = sim_at(world, sim_params, (0.5, 1.0), seed);
     sim.follow(&[Point2::new(0.5, 1.0), Point2::new(3.5, 1.0)]);
     let mut rec = Rec::default();
     let st = run(&mut sim, &mut rec, 1000.0);
@@ -75,11 +92,7 @@ fn half_speed_terrain_takes_twice_as_long() {
 fn stuck_terrain_collapses_speed() {
     let mut world = flat_world(100, 40, 0.05);
     fill(&mut world, 0, 100, 0, 40, 0.0, TURF);
-    let mut sim = Simulator::new(
-        &sc(world, SimParams::default(), Pose2::new(0.5, 1.0, 0.0)),
-        4,
-    )
-    .unwrap();
+    let mut sim = sim_at(world, SimParams::default(), (0.5, 1.0), 4);
     sim.follow(&[Point2::new(3.5, 1.0)]);
     let mut rec = Rec::default();
     sim.advance(100.0, &mut rec).unwrap();
@@ -104,7 +117,7 @@ fn stuck_terrain_collapses_speed() {
 #[test]
 fn turns_in_place_then_walks() {
     let world = flat_world(60, 60, 0.05);
-    let mut sim = Simulator::new(&sc(world, noiseless(), Pose2::new(1.0, 1.0, 0.0)), 5).unwrap();
+    let mut sim = sim_at(world, noiseless(), (1.0, 1.0), 5);
     sim.follow(&[Point2::new(1.0, 2.0)]);
     let mut rec = Rec::default();
     sim.advance(1.0, &mut rec).unwrap();
@@ -132,12 +145,7 @@ fn turns_in_place_then_walks() {
 
 #[test]
 fn a_wall_blocks_and_presses_the_bumper() {
-    let mut world = flat_world(100, 40, 0.05);
-    fill(&mut world, 50, 52, 0, 40, 0.5, WALL);
-    let mut sim = Simulator::new(&sc(world, noiseless(), Pose2::new(1.0, 1.0, 0.0)), 6).unwrap();
-    sim.follow(&[Point2::new(4.0, 1.0)]);
-    let mut rec = Rec::default();
-    let st = run(&mut sim, &mut rec, 200.0);
+    let (mut sim, mut rec, st) = walk_across_strip(WALL, 0.5, 6, 200.0);
     assert!(st.blocked && !st.idle);
     let x = sim.pose().x;
     assert!(x < 2.5 && x > 2.45, "{x}");
@@ -158,13 +166,13 @@ fn a_wall_blocks_and_presses_the_bumper() {
     // A small step is climbed.
     let mut world = flat_world(100, 40, 0.05);
     fill(&mut world, 50, 100, 0, 40, 0.2, GROUND);
-    let mut sim = Simulator::new(&sc(world, noiseless(), Pose2::new(1.0, 1.0, 0.0)), 6).unwrap();
+    let mut sim = sim_at(world, noiseless(), (1.0, 1.0), 6);
     sim.follow(&[Point2::new(4.0, 1.0)]);
     assert!(run(&mut sim, &mut rec, 200.0).idle);
     assert!((sim.body_z() - 0.2).abs() < 1e-6);
     // The edge of the world blocks too.
     let world = flat_world(40, 40, 0.05);
-    let mut sim = Simulator::new(&sc(world, noiseless(), Pose2::new(1.0, 1.0, 0.0)), 6).unwrap();
+    let mut sim = sim_at(world, noiseless(), (1.0, 1.0), 6);
     sim.follow(&[Point2::new(4.0, 1.0)]);
     assert!(run(&mut sim, &mut rec, 200.0).blocked);
     assert!(sim.pose().x < 2.0);
@@ -172,12 +180,7 @@ fn a_wall_blocks_and_presses_the_bumper() {
 
 #[test]
 fn curtains_are_pushed_through() {
-    let mut world = flat_world(100, 40, 0.05);
-    fill(&mut world, 50, 52, 0, 40, 0.8, CURTAIN);
-    let mut sim = Simulator::new(&sc(world, noiseless(), Pose2::new(1.0, 1.0, 0.0)), 7).unwrap();
-    sim.follow(&[Point2::new(4.0, 1.0)]);
-    let mut rec = Rec::default();
-    let st = run(&mut sim, &mut rec, 400.0);
+    let (sim, rec, st) = walk_across_strip(CURTAIN, 0.8, 7, 400.0);
     assert!(st.idle && !st.blocked);
     assert!((sim.body_z() - 0.0).abs() < 1e-9);
     let forces: Vec<f64> = rec
@@ -194,19 +197,12 @@ fn curtains_are_pushed_through() {
     assert!(rec.poses.iter().all(|p| p.position.z.abs() < 1e-9));
 
     // A box needing 15 N is not pushed by a 3-N robot: blocked, bumper at 3 N.
-    let mut world = flat_world(100, 40, 0.05);
-    fill(&mut world, 50, 52, 0, 40, 0.4, BOX);
-    let mut sim = Simulator::new(
-        &sc(world.clone(), noiseless(), Pose2::new(1.0, 1.0, 0.0)),
-        7,
-    )
-    .unwrap();
-    sim.follow(&[Point2::new(4.0, 1.0)]);
-    let mut rec = Rec::default();
-    assert!(run(&mut sim, &mut rec, 400.0).blocked);
-    // Through the servo torque and back (the C4 Table 4 calibration): equal up to rounding.
+    let (_, rec, st) = walk_across_strip(BOX, 0.4, 7, 400.0);
+    assert!(st.blocked);
+    // Through the servo torque and back (the Prágr23 Table 4 calibration): equal up to rounding.
     assert!((rec.proprio.last().unwrap().bumper_force - 3.0).abs() < 1e-9);
     // A robot that cannot push is stopped by the curtain; without a bumper it feels nothing.
+    let mut world = flat_world(100, 40, 0.05);
     fill(&mut world, 50, 52, 0, 40, 0.8, CURTAIN);
     let mut s = sc(world, noiseless(), Pose2::new(1.0, 1.0, 0.0));
     s.robot.max_push_force_n = 0.0;
@@ -254,11 +250,7 @@ fn streams_come_at_their_rates_in_time_order() {
 fn roll_variance_matches_the_terrain() {
     let mut world = flat_world(400, 20, 0.05);
     fill(&mut world, 0, 400, 0, 20, 0.0, ROUGH);
-    let mut sim = Simulator::new(
-        &sc(world, SimParams::default(), Pose2::new(0.5, 0.5, 0.0)),
-        9,
-    )
-    .unwrap();
+    let mut sim = sim_at(world, SimParams::default(), (0.5, 0.5), 9);
     sim.set_gait(GaitId(1)); // tall: 0.06 rad², 0.0125 m/s
     sim.follow(&[Point2::new(19.0, 0.5)]);
     let mut rec = Rec::default();
@@ -287,7 +279,7 @@ fn roll_variance_matches_the_terrain() {
 #[test]
 fn at_rest_only_the_hotel_load() {
     let world = flat_world(60, 60, 0.05);
-    let mut sim = Simulator::new(&sc(world, noiseless(), Pose2::new(1.0, 1.0, 0.0)), 10).unwrap();
+    let mut sim = sim_at(world, noiseless(), (1.0, 1.0), 10);
     let mut rec = Rec::default();
     let st = sim.advance(5.0, &mut rec).unwrap();
     assert!(st.idle);
@@ -306,7 +298,7 @@ fn pitch_follows_the_slope() {
         let i = k % 100;
         world.elevation[k] = (i as f32 * 0.05) * 0.1; // 10 % uphill in +x
     }
-    let mut sim = Simulator::new(&sc(world, noiseless(), Pose2::new(1.0, 0.5, 0.0)), 11).unwrap();
+    let mut sim = sim_at(world, noiseless(), (1.0, 0.5), 11);
     let mut rec = Rec::default();
     sim.advance(0.0, &mut rec).unwrap();
     let p = rec.poses[0];

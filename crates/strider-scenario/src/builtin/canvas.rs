@@ -1,13 +1,12 @@
 //! The painter the generators draw worlds with: shapes of terrain and height on a raster whose
 //! lower-left corner is the world origin, then colour and elevation texture.
 
-use std::collections::BTreeMap;
-
 use rand::{RngExt, rngs::ChaCha8Rng};
 use rand_distr::{Distribution, Normal};
 use strider_core::{Cell, CellRect, Point2, Rgb8};
 
-use crate::model::{ElevationEncoding, GaitResponse, TerrainType, World};
+use super::terrains::TerrainTable;
+use crate::model::{ElevationEncoding, World};
 
 /// A raster being painted: terrain index and base elevation per cell (row 0 = lowest y).
 pub(crate) struct Canvas {
@@ -18,32 +17,32 @@ pub(crate) struct Canvas {
     pub terrain: Vec<u8>,
 }
 
-/// How a terrain looks: colour bases (one picked per cell), colour noise and elevation texture.
-pub(crate) struct Look {
-    pub index: u8,
-    pub bases: Vec<Rgb8>,
-    /// Standard deviation of the per-cell colour noise (0–255 scale).
-    pub sigma: f64,
-    /// Elevation texture: uniform noise amplitude, metres.
-    pub texture: f32,
+/// An axis-aligned rectangle `[x0, x1] × [y0, y1]`, metres.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Rect {
+    pub x0: f64,
+    pub y0: f64,
+    pub x1: f64,
+    pub y1: f64,
 }
 
-impl Look {
-    pub fn new(index: u8, base: Rgb8, sigma: f64, texture: f32) -> Self {
+impl Rect {
+    /// The rectangle of lower-left corner (`x`, `y`), `w` wide and `h` high.
+    pub fn at(x: f64, y: f64, w: f64, h: f64) -> Self {
         Self {
-            index,
-            bases: vec![base],
-            sigma,
-            texture,
+            x0: x,
+            y0: y,
+            x1: x + w,
+            y1: y + h,
         }
     }
-    pub fn mixed(index: u8, bases: &[Rgb8], sigma: f64, texture: f32) -> Self {
-        Self {
-            index,
-            bases: bases.to_vec(),
-            sigma,
-            texture,
-        }
+
+    /// Euclidean distance between the closest points of `self` and `other` (0 when they
+    /// overlap).
+    pub fn gap(&self, other: &Rect) -> f64 {
+        let dx = (other.x0 - self.x1).max(self.x0 - other.x1).max(0.0);
+        let dy = (other.y0 - self.y1).max(self.y0 - other.y1).max(0.0);
+        dx.hypot(dy)
     }
 }
 
@@ -118,6 +117,11 @@ impl Canvas {
     pub fn rect(&mut self, x0: f64, y0: f64, x1: f64, y1: f64, terrain: u8, z: Option<f32>) {
         let cells = self.cells_in(x0, y0, x1, y1);
         self.paint(cells, |_, _| true, terrain, z);
+    }
+
+    /// Fills rectangle `r`.
+    pub fn fill(&mut self, r: Rect, terrain: u8, z: Option<f32>) {
+        self.rect(r.x0, r.y0, r.x1, r.y1, terrain, z);
     }
 
     /// Fills a wobbly ellipse: centre `c`, semi-axes `rx`, `ry`, rotated by `angle`, radius
@@ -201,18 +205,13 @@ impl Canvas {
     /// one of its terrain's bases plus Gaussian noise (a shared lightness shift and a smaller
     /// per-channel one), its elevation the painted one plus uniform texture noise, snapped to the
     /// default 16-bit encoding ([`ElevationEncoding::default`]).
-    pub fn finish(
-        &self,
-        terrains: Vec<TerrainType>,
-        looks: &[Look],
-        rng: &mut ChaCha8Rng,
-    ) -> World {
+    pub fn finish(&self, terrains: &TerrainTable, rng: &mut ChaCha8Rng) -> World {
         let enc = ElevationEncoding::default();
         let unit = Normal::new(0.0, 1.0).expect("unit normal");
         let mut color = Vec::with_capacity(self.terrain.len());
         let mut elevation = Vec::with_capacity(self.terrain.len());
         for (k, &t) in self.terrain.iter().enumerate() {
-            let look = looks.iter().find(|l| l.index == t);
+            let look = terrains.look(t);
             let (c, tex) = match look {
                 Some(l) => {
                     let base = l.bases[rng.random_range(0..l.bases.len())];
@@ -240,7 +239,7 @@ impl Canvas {
             elevation,
             color,
             terrain: self.terrain.clone(),
-            terrains,
+            terrains: terrains.types(),
         }
     }
 }
@@ -255,55 +254,4 @@ pub(crate) fn dist_to_segment(p: Point2, a: Point2, b: Point2) -> f64 {
         0.0
     };
     p.dist(Point2::new(a.x + t * dx, a.y + t * dy))
-}
-
-/// A gait response.
-pub(crate) fn resp(
-    speed_factor: f64,
-    stuck: bool,
-    roll_variance: f64,
-    power_w: f64,
-) -> GaitResponse {
-    GaitResponse {
-        speed_factor,
-        stuck,
-        roll_variance,
-        power_w,
-    }
-}
-
-/// A terrain type with per-gait responses.
-pub(crate) fn terrain(index: u8, name: &str, gaits: &[(&str, GaitResponse)]) -> TerrainType {
-    TerrainType {
-        index,
-        name: name.to_string(),
-        gaits: gaits
-            .iter()
-            .map(|(g, r)| (g.to_string(), r.clone()))
-            .collect::<BTreeMap<_, _>>(),
-        vibration: 0.0,
-        energy_per_m: 1.0,
-        push_force_n: None,
-    }
-}
-
-/// A parameter table from float and integer entries.
-pub(crate) fn strategy_table(floats: &[(&str, f64)], ints: &[(&str, i64)]) -> toml::Table {
-    let mut t = toml::Table::new();
-    for &(k, v) in floats {
-        t.insert(k.to_string(), toml::Value::Float(v));
-    }
-    for &(k, v) in ints {
-        t.insert(k.to_string(), toml::Value::Integer(v));
-    }
-    t
-}
-
-/// The scenario's `[strategy]` table: one `[strategy.<name>]` section per strategy (or
-/// command) given `table`.
-pub(crate) fn sections(names: &[&str], table: &toml::Table) -> toml::Table {
-    names
-        .iter()
-        .map(|n| (n.to_string(), toml::Value::Table(table.clone())))
-        .collect()
 }

@@ -1,23 +1,27 @@
-//! `energy-arena` (`003`): a 2 × 1.5 m flat floor at 0.05 m of smooth timber (0.63 W at
+//! `energy-arena` (MartinCorke): a 2 × 1.5 m flat floor at 0.05 m of smooth timber (0.63 W at
 //! 0.1 m/s) with a grey carpet band (1.21 W) lying across the straight lines from the base to the
 //! three waypoints; a timber gap at one end of the band leaves an energy-cheaper detour. The rover
-//! draws a 0.21 W hotel load; the benchmark runs 25 tours (`strategy.tours.n_tours`). As in `003` §4
-//! the pose arrives at 30 Hz and the power at 10 Hz, both noisy.
+//! draws a 0.21 W hotel load; the benchmark runs 25 tours (`strategy.tours.n_tours`). As in
+//! MartinCorke §4 the pose arrives at 30 Hz and the power at 10 Hz, both noisy.
 
-use rand::{RngExt, SeedableRng, rngs::ChaCha8Rng};
-use strider_core::{Point2, Pose2, Rgb8};
+use rand::{RngExt, rngs::ChaCha8Rng};
+use strider_core::{Point2, Rgb8};
 use strider_map::MapParams;
 
-use super::canvas::{Canvas, Look, resp, strategy_table, terrain};
-use super::{MAX_ATTEMPTS, gen_error, uni};
+use super::builder::{self, Frame, Layout, ScenarioBuilder};
+use super::canvas::Canvas;
+use super::draw::uni;
+use super::placement::{crosses, reach_from, restrict_to};
+use super::strategy;
+use super::terrains::{Look, TerrainTable, powered};
 use crate::error::ScenarioError;
-use crate::ground_truth::{flood_fill, point_in_mask};
-use crate::model::{Bounds, Scenario, SimParams, Tour};
+use crate::ground_truth::point_in_mask;
+use crate::model::{Scenario, SimParams, World};
 use crate::profiles;
 
-pub(super) const DESCRIPTION: &str = "003 energy arena: 2×1.5 m at 0.05 m, smooth timber (0.63 W \
-at 0.1 m/s) with a grey carpet band (1.21 W) across the straight lines between base and the 3 \
-waypoints, rover-small (hotel load 0.21 W); tour = base + 3 waypoints, 25 tours.";
+pub(super) const DESCRIPTION: &str = "MartinCorke energy arena: 2×1.5 m at 0.05 m, smooth timber \
+(0.63 W at 0.1 m/s) with a grey carpet band (1.21 W) across the straight lines between base and \
+the 3 waypoints, rover-small (hotel load 0.21 W); tour = base + 3 waypoints, 25 tours.";
 
 /// Terrain indices.
 pub const TIMBER: u8 = 0;
@@ -30,9 +34,10 @@ const W: f64 = 2.0;
 const H: f64 = 1.5;
 const RES: f64 = 0.05;
 
-/// `003` §4: the overhead ArUco tracker updates the pose at 30 Hz and the robot logs its motor
-/// power at 10 Hz. Both are noisy: a few millimetres and about a degree of tracker jitter (a
-/// 100 mm marker seen by a webcam from about 1.5 m), and the default 5 % on the power reading.
+/// MartinCorke §4: the overhead ArUco tracker updates the pose at 30 Hz and the robot logs its
+/// motor power at 10 Hz. Both are noisy: a few millimetres and about a degree of tracker jitter
+/// (a 100 mm marker seen by a webcam from about 1.5 m), and the default 5 % on the power
+/// reading.
 fn sim_params() -> SimParams {
     SimParams {
         pose_rate_hz: 30.0,
@@ -44,106 +49,127 @@ fn sim_params() -> SimParams {
 }
 
 pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
-    let name = "energy-arena";
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let robot = profiles::rover_small();
-    let map = MapParams {
-        cell_size: 0.05,
-        r_robot: robot.footprint_radius,
+    let frame = Frame::new(W, H, RES, TIMBER);
+    ScenarioBuilder::new(
+        "energy-arena",
+        DESCRIPTION,
+        seed,
+        frame,
+        profiles::rover_small(),
+    )
+    .map(|m| MapParams {
         rho_obstacle: 0.05,
         r_sensor: 0.5,
         sensor_height: 0.1,
         r_hist: 0.1,
         c_radius: 0.2,
-        ..MapParams::default()
-    };
-    let terrains = vec![
-        terrain(TIMBER, "timber", &[("drive", resp(1.0, false, 0.0, 0.63))]),
-        terrain(
+        ..m
+    })
+    .sim(sim_params())
+    .strategy(&["tours"], strategy::params(&[], &[("n_tours", 25)]))
+    .terrains(terrains())
+    .generate("no valid layout found", |a| {
+        let plan = Plan::draw(a.rng);
+        let mut c = a.canvas();
+        plan.paint(&mut c);
+        let world = a.finish(&c);
+        let adm = a.admissible(&world);
+        let tour = plan.tour();
+        if !(tour.iter().all(|&p| point_in_mask(&world, &adm, p)) && plan.has_detours(&world, &adm))
+        {
+            return None;
+        }
+        Some(Layout {
+            world,
+            start: plan.base,
+            tours: vec![builder::tour("base-waypoints", tour, true)],
+        })
+    })
+}
+
+fn terrains() -> TerrainTable {
+    TerrainTable::new()
+        .add(
+            TIMBER,
+            "timber",
+            &[("drive", powered(1.0, 0.63))],
+            Look::new(Rgb8::new(170, 120, 70), 7.0, 0.0005),
+        )
+        .add(
             CARPET,
             "grey carpet",
-            &[("drive", resp(1.0, false, 0.0, 1.21))],
-        ),
-        terrain(WALL, "wall", &[]),
-    ];
-    let looks = [
-        Look::new(TIMBER, Rgb8::new(170, 120, 70), 7.0, 0.0005),
-        Look::new(CARPET, Rgb8::new(120, 120, 120), 6.0, 0.001),
-        Look::new(WALL, Rgb8::new(240, 240, 240), 4.0, 0.0),
-    ];
-    for _ in 0..MAX_ATTEMPTS {
-        let mut c = Canvas::new(W, H, RES, TIMBER);
-        let base = Point2::new(uni(&mut rng, 0.2, 0.35), uni(&mut rng, 0.55, 0.95));
-        let wps: Vec<Point2> = [0.3, 0.75, 1.2]
+            &[("drive", powered(1.0, 1.21))],
+            Look::new(Rgb8::new(120, 120, 120), 6.0, 0.001),
+        )
+        .obstacle(WALL, "wall", Look::white_wall())
+}
+
+/// One draw of the arena: the base, the three waypoints and the carpet band.
+struct Plan {
+    base: Point2,
+    waypoints: Vec<Point2>,
+    /// Band centre line: x at mid-height, and its tilt (dx/dy).
+    xc: f64,
+    tilt: f64,
+    /// Half the band's width.
+    half: f64,
+    /// The timber gap is at the bottom (else at the top).
+    gap_low: bool,
+}
+
+impl Plan {
+    fn draw(rng: &mut ChaCha8Rng) -> Self {
+        let base = Point2::new(uni(rng, 0.2, 0.35), uni(rng, 0.55, 0.95));
+        let waypoints = [0.3, 0.75, 1.2]
             .iter()
-            .map(|&y| Point2::new(uni(&mut rng, 1.6, 1.8), y + uni(&mut rng, -0.08, 0.08)))
+            .map(|&y| Point2::new(uni(rng, 1.6, 1.8), y + uni(rng, -0.08, 0.08)))
             .collect();
-        let xc = uni(&mut rng, 0.85, 1.15);
-        let half = uni(&mut rng, 0.15, 0.25);
-        let tilt = uni(&mut rng, -0.15, 0.15);
+        let xc = uni(rng, 0.85, 1.15);
+        let half = uni(rng, 0.15, 0.25);
+        let tilt = uni(rng, -0.15, 0.15);
         let gap_low = rng.random_bool(0.5);
-        let (y0, y1) = if gap_low { (0.35, H) } else { (0.0, H - 0.35) };
+        Self {
+            base,
+            waypoints,
+            xc,
+            tilt,
+            half,
+            gap_low,
+        }
+    }
+
+    /// The carpet band (5 mm high) with its gap, and the border wall.
+    fn paint(&self, c: &mut Canvas) {
+        let (y0, y1) = if self.gap_low {
+            (0.35, H)
+        } else {
+            (0.0, H - 0.35)
+        };
         let cells = c.cells_in(0.0, y0, W, y1);
         c.paint(
             cells,
-            |p, _| (p.x - (xc + tilt * (p.y - H / 2.0))).abs() <= half,
+            |p, _| (p.x - (self.xc + self.tilt * (p.y - H / 2.0))).abs() <= self.half,
             CARPET,
             Some(0.005),
         );
         c.border(RES, WALL, 0.1);
-        let world = c.finish(terrains.clone(), &looks, &mut rng);
-        let adm = world.gt_admissible(map.rho_obstacle, map.r_robot);
-        let mut tour = vec![base];
-        tour.extend(wps.iter().copied());
-        if !tour.iter().all(|&p| point_in_mask(&world, &adm, p)) {
-            continue;
-        }
-        // Each straight base → waypoint line crosses the carpet; a timber-only detour exists.
-        let crosses = |a: Point2, b: Point2| {
-            (0..=100).any(|s| {
-                let f = s as f64 / 100.0;
-                let p = Point2::new(a.x + f * (b.x - a.x), a.y + f * (b.y - a.y));
-                world
-                    .index_at(p)
-                    .is_some_and(|k| world.terrain[k] == CARPET)
-            })
-        };
-        let timber: Vec<bool> = (0..adm.len())
-            .map(|k| adm[k] && world.terrain[k] == TIMBER)
-            .collect();
-        let Some(bk) = world.index_at(base) else {
-            continue;
-        };
-        let reach = flood_fill(&timber, world.width(), world.height(), bk);
-        let ok = wps
-            .iter()
-            .all(|&w| crosses(base, w) && world.index_at(w).is_some_and(|k| reach[k]));
-        if !ok {
-            continue;
-        }
-        let r = map.r_robot;
-        return Ok(Scenario {
-            name: name.into(),
-            description: DESCRIPTION.into(),
-            world_seed: seed,
-            world,
-            robot,
-            map,
-            sim: sim_params(),
-            strategy: super::canvas::sections(&["tours"], &strategy_table(&[], &[("n_tours", 25)])),
-            start: Pose2::new(base.x, base.y, 0.0),
-            bounds: Bounds {
-                min: Point2::new(r, r),
-                max: Point2::new(W - r, H - r),
-            },
-            tours: vec![Tour {
-                name: "base-waypoints".into(),
-                waypoints: tour,
-                closed: true,
-            }],
-            time_limit_s: 3600.0,
-            elevation_encoding: Default::default(),
-        });
     }
-    Err(gen_error(name, seed, "no valid layout found"))
+
+    /// The base, then the waypoints.
+    fn tour(&self) -> Vec<Point2> {
+        let mut tour = vec![self.base];
+        tour.extend(self.waypoints.iter().copied());
+        tour
+    }
+
+    /// Each straight base → waypoint line crosses the carpet, and a timber-only detour exists.
+    fn has_detours(&self, world: &World, adm: &[bool]) -> bool {
+        let timber = restrict_to(world, adm, &[TIMBER]);
+        let Some(reach) = reach_from(world, &timber, self.base) else {
+            return false;
+        };
+        self.waypoints.iter().all(|&w| {
+            crosses(world, self.base, w, &[CARPET]) && world.index_at(w).is_some_and(|k| reach[k])
+        })
+    }
 }

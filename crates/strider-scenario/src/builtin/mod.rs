@@ -7,22 +7,29 @@
 //! where promised) and re-draws the layout when a draw violates them.
 //!
 //! To get an editable copy: [`generate`] then [`crate::Scenario::save`].
+//!
+//! Each world's module describes what is special about it; `builder` holds what they share
+//! (the attempt loop and the scenario around a layout), `canvas` the painter, `terrains`
+//! the terrain table with its looks, `placement` the ground-truth checks of a layout,
+//! `draw` shared random draws and `strategy` the `[strategy]` sections.
 
 mod bonn_paths;
+mod builder;
 mod canvas;
 mod cot_track;
+mod courtyard;
 mod courtyard_large;
 mod courtyard_small;
+mod draw;
 mod energy_arena;
 mod escape_arena;
 mod lab_track;
-
-use rand::{RngExt, rngs::ChaCha8Rng};
-use strider_core::Point2;
+mod placement;
+mod strategy;
+mod terrains;
 
 use crate::error::ScenarioError;
-use crate::ground_truth::nearest_in_mask;
-use crate::model::{Scenario, World};
+use crate::model::Scenario;
 
 /// One built-in scenario: name, description, generator.
 struct Entry {
@@ -114,55 +121,4 @@ pub(crate) fn unknown(name: &str, note: &str) -> ScenarioError {
         note: note.to_string(),
         valid: NAMES.join(", "),
     }
-}
-
-/// Layouts a generator may draw before giving up.
-const MAX_ATTEMPTS: usize = 200;
-
-fn gen_error(name: &str, seed: u64, message: impl Into<String>) -> ScenarioError {
-    ScenarioError::Generate {
-        name: name.to_string(),
-        seed,
-        message: message.into(),
-    }
-}
-
-/// Uniform sample in `[lo, hi)`.
-fn uni(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> f64 {
-    if hi > lo {
-        rng.random_range(lo..hi)
-    } else {
-        lo
-    }
-}
-
-/// The centre of the `mask` cell nearest to `p`.
-fn snap(world: &World, mask: &[bool], p: Point2) -> Option<Point2> {
-    nearest_in_mask(world, mask, p).map(|k| world.cell_center(k))
-}
-
-/// `n` distinct centres of `mask` cells drawn uniformly, each at least `min_sep` from the
-/// previous one.
-fn sample_cells(
-    world: &World,
-    mask: &[bool],
-    n: usize,
-    min_sep: f64,
-    rng: &mut ChaCha8Rng,
-) -> Vec<Point2> {
-    let cells: Vec<usize> = (0..mask.len()).filter(|&k| mask[k]).collect();
-    let mut out: Vec<Point2> = Vec::with_capacity(n);
-    if cells.is_empty() {
-        return out;
-    }
-    let mut tries = 0;
-    while out.len() < n && tries < 100 * n {
-        tries += 1;
-        let p = world.cell_center(cells[rng.random_range(0..cells.len())]);
-        if out.iter().any(|q| q.dist(p) < 1e-9) || out.last().is_some_and(|q| q.dist(p) < min_sep) {
-            continue;
-        }
-        out.push(p);
-    }
-    out
 }

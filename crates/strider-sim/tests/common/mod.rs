@@ -35,7 +35,7 @@ fn terrain(index: u8, name: &str, fast: GaitResponse, tall: GaitResponse) -> Ter
         index,
         name: name.into(),
         gaits,
-        vibration: 0.5,
+        vibration: 0.0,
         energy_per_m: 1.0,
         push_force_n: None,
     }
@@ -43,55 +43,30 @@ fn terrain(index: u8, name: &str, fast: GaitResponse, tall: GaitResponse) -> Ter
 
 /// The test terrain table.
 pub fn terrains() -> Vec<TerrainType> {
-    let mut curtain = terrain(
-        CURTAIN,
-        "curtain",
-        resp(1.0, false, 0.0, 2.0),
-        resp(1.0, false, 0.0, 2.0),
-    );
-    curtain.push_force_n = Some(0.8);
-    let mut heavy = terrain(
-        BOX,
-        "box",
-        resp(1.0, false, 0.0, 2.0),
-        resp(1.0, false, 0.0, 2.0),
-    );
-    heavy.push_force_n = Some(15.0);
-    let mut slow = terrain(
-        SLOW,
-        "slow",
-        resp(0.5, false, 0.0, 2.0),
-        resp(0.5, false, 0.0, 2.0),
-    );
-    slow.vibration = 2.5;
-    vec![
-        terrain(
-            GROUND,
-            "ground",
-            resp(1.0, false, 0.005, 1.0),
-            resp(1.0, false, 0.005, 1.5),
-        ),
-        slow,
-        terrain(
-            TURF,
-            "turf",
-            resp(1.0, true, 0.01, 3.0),
-            resp(0.8, false, 0.01, 3.0),
-        ),
-        terrain(
-            WALL,
-            "wall",
-            resp(1.0, false, 0.0, 0.0),
-            resp(1.0, false, 0.0, 0.0),
-        ),
-        curtain,
-        terrain(
-            ROUGH,
-            "rough",
-            resp(1.0, false, 0.03, 4.0),
-            resp(1.0, false, 0.06, 4.0),
-        ),
-    ]
+    let level = resp(1.0, false, 0.0, 0.0);
+    let pushable = resp(1.0, false, 0.0, 2.0);
+    let slow = resp(0.5, false, 0.0, 2.0);
+    // (index, name, fast gait, tall gait, vibration, push force)
+    #[rustfmt::skip]
+    let table = [
+        (GROUND, "ground", resp(1.0, false, 0.005, 1.0), resp(1.0, false, 0.005, 1.5), 0.5, None),
+        (SLOW, "slow", slow.clone(), slow, 2.5, None),
+        (TURF, "turf", resp(1.0, true, 0.01, 3.0), resp(0.8, false, 0.01, 3.0), 0.5, None),
+        (WALL, "wall", level.clone(), level, 0.5, None),
+        (CURTAIN, "curtain", pushable.clone(), pushable.clone(), 0.5, Some(0.8)),
+        (ROUGH, "rough", resp(1.0, false, 0.03, 4.0), resp(1.0, false, 0.06, 4.0), 0.5, None),
+        (BOX, "box", pushable.clone(), pushable, 0.5, Some(15.0)),
+    ];
+    table
+        .into_iter()
+        .map(
+            |(index, name, fast, tall, vibration, push_force_n)| TerrainType {
+                vibration,
+                push_force_n,
+                ..terrain(index, name, fast, tall)
+            },
+        )
+        .collect()
 }
 
 /// A flat world of `w × h` cells of size `d` at elevation 0, lower-left cell (0, 0).
