@@ -1,4 +1,4 @@
-//! Tests of class-map erosion and dilation (`001` Eq. 25–26, decision 18).
+//! Tests of class-map erosion and dilation (Prágr22 Eq. 25–26, decision 18).
 
 use strider_core::grid::{Cell, CellRect};
 use strider_learn::igng::ClassId;
