@@ -1,20 +1,21 @@
-//! The learner benchmark harness of `000` §V-A and thesis C1: one interface over every
+//! The learner benchmark harness of Prágr19 §V-A and Prágr18: one interface over every
 //! traversal-cost regressor, and the two evaluation protocols, independent of where the data
 //! come from.
 //!
 //! * [`IncrementalLearner`]: learn one (descriptor, cost) pair, predict many. Implemented by the
-//!   exact GP ([`GpLearner`]: refitted on all data at every step, as `000` describes its "pure
-//!   GP"), the RBCM of GP experts ([`RbcmLearner`], `000` Eq. 7–9), the IGMN ([`IgmnLearner`],
+//!   exact GP ([`GpLearner`]: refitted on all data at every step, as Prágr19 describes its "pure
+//!   GP"), the RBCM of GP experts ([`RbcmLearner`], Prágr19 Eq. 7–9), the IGMN ([`IgmnLearner`],
 //!   [`crate::igmn`]) and the CART tree ([`TreeLearner`], [`crate::regression_tree`], refitted
 //!   at every step). [`LearnerSpec`] names a configuration and builds it.
-//! * [`run_stream`] (`000` §V-A, Fig. 5): add the pairs one at a time in their recorded order and,
-//!   after each addition, predict *all* pairs; record the wall time of the learning step and of
-//!   the prediction, the RMSE against the recorded costs (the paper treats the noisy measurements
-//!   as the ground truth) and the mean predictive standard deviation (latent, decision 14).
-//! * [`c1_errors`] (thesis C1 §III-C, §IV-C): learn on the first pass, predict the second.
+//! * [`run_stream`] (Prágr19 §V-A, Fig. 5): add the pairs one at a time in their recorded order
+//!   and, after each addition, predict *all* pairs; record the wall time of the learning step and
+//!   of the prediction, the RMSE against the recorded costs (the paper treats the noisy
+//!   measurements as the ground truth) and the mean predictive standard deviation (latent,
+//!   decision 14).
+//! * [`c1_errors`] (Prágr18 §III-C, §IV-C): learn on the first pass, predict the second.
 //!   Batch learners (GP, tree) are fitted once on the first pass and predict the second.
 //!   Incremental learners (RBCM, IGMN) "first query the model, then learn" every pair of both
-//!   passes, and their errors include the first pass's predictions (as the thesis reports them).
+//!   passes, and their errors include the first pass's predictions (as Prágr18 reports them).
 //!   The error of a prediction is |ŷ − y|; the table reports the mean and the population variance
 //!   of these errors.
 //!
@@ -32,6 +33,7 @@ use crate::gp::{Gp, GpError, GpParams, HyperBounds, Kernel, KernelKind, fit_hype
 use crate::igmn::{Igmn, IgmnError, IgmnParams};
 use crate::rbcm::{Rbcm, RbcmParams, RbcmVariant};
 use crate::regression_tree::{RegressionTree, TreeError, TreeParams};
+use crate::training_data::first_non_finite;
 
 /// Errors of the benchmark learners.
 #[derive(Clone, Debug, Error, PartialEq)]
@@ -88,15 +90,8 @@ fn check_data(dim: usize, x: &[f64], y: &[f64]) -> Result<(), LearnError> {
             y.len()
         )));
     }
-    if let Some(k) = x.iter().position(|v| !v.is_finite()) {
-        return Err(LearnError::BadData(format!(
-            "x[{}] of pair {} is not finite",
-            k % dim,
-            k / dim
-        )));
-    }
-    if let Some(i) = y.iter().position(|v| !v.is_finite()) {
-        return Err(LearnError::BadData(format!("y of pair {i} is not finite")));
+    if let Some(what) = first_non_finite(dim, x, y, "pair") {
+        return Err(LearnError::BadData(format!("{what} is not finite")));
     }
     Ok(())
 }
@@ -184,7 +179,7 @@ impl DataScale {
 
     /// Hyperparameter bounds: lengthscale in [10⁻², 10²] (descriptors are unit-scaled),
     /// σ_s² in [10⁻² σ_y², 10² σ_y²] (a committee's K** must cover the costs' spread),
-    /// σ_n² in [10⁻⁴ σ_y², σ_y²]; at most `max_iterations` (≤ 200, `000` §V-A) steps.
+    /// σ_n² in [10⁻⁴ σ_y², σ_y²]; at most `max_iterations` (≤ 200, Prágr19 §V-A) steps.
     pub fn hyper_bounds(&self, max_iterations: usize) -> HyperBounds {
         let v = self.y_std * self.y_std;
         HyperBounds {
@@ -207,7 +202,7 @@ pub enum LearnerSpec {
         /// Fit the hyperparameters at every step (warm-started).
         fit: bool,
     },
-    /// The RBCM of GP experts (`000`).
+    /// The RBCM of GP experts (Prágr19).
     Rbcm {
         /// Kernel shape.
         kernel: KernelKind,
@@ -268,7 +263,7 @@ impl LearnerSpec {
         }
     }
 
-    /// True for the learners that query-then-learn every pair in the C1 protocol.
+    /// True for the learners that query-then-learn every pair in the Prágr18 protocol.
     pub fn is_incremental(&self) -> bool {
         matches!(self, LearnerSpec::Rbcm { .. } | LearnerSpec::Igmn(_))
     }
@@ -338,7 +333,7 @@ impl LearnerSpec {
     }
 }
 
-/// The exact GP, refitted on all pairs at every step (`000`'s "pure GP", O(n³) per step).
+/// The exact GP, refitted on all pairs at every step (Prágr19's "pure GP", O(n³) per step).
 pub struct GpLearner {
     gp: Gp,
     params: GpParams,
@@ -365,15 +360,7 @@ impl IncrementalLearner for GpLearner {
         self.gp.dim()
     }
     fn learn(&mut self, x: &[f64], y: f64) -> Result<(), LearnError> {
-        check_data(self.dim(), x, &[y])?;
-        self.x.extend_from_slice(x);
-        self.y.push(y);
-        if let Err(e) = self.refit() {
-            self.x.truncate(self.x.len() - x.len());
-            self.y.pop();
-            return Err(e);
-        }
-        Ok(())
+        self.learn_batch(x, &[y])
     }
     fn learn_batch(&mut self, x: &[f64], y: &[f64]) -> Result<(), LearnError> {
         check_data(self.dim(), x, y)?;
@@ -403,6 +390,24 @@ fn gp_like_predict(
     Ok(Predictions {
         mean,
         std: Some(var.into_iter().map(|v| v.max(0.0).sqrt()).collect()),
+    })
+}
+
+/// Predictions without a model confidence: `f` at each of the `dim`-dimensional queries `xs`.
+fn point_predictions(
+    xs: &[f64],
+    dim: usize,
+    f: impl Fn(&[f64]) -> f64,
+) -> Result<Predictions, LearnError> {
+    if !xs.len().is_multiple_of(dim) {
+        return Err(LearnError::BadData(format!(
+            "{} query values for dimension {dim}",
+            xs.len()
+        )));
+    }
+    Ok(Predictions {
+        mean: xs.chunks_exact(dim).map(f).collect(),
+        std: None,
     })
 }
 
@@ -458,19 +463,8 @@ impl IncrementalLearner for IgmnLearner {
         Ok(self.igmn.learn(x, y)?)
     }
     fn predict(&self, xs: &[f64]) -> Result<Predictions, LearnError> {
-        let d = self.dim();
-        if !xs.len().is_multiple_of(d) {
-            return Err(LearnError::BadData(format!(
-                "{} query values for dimension {d}",
-                xs.len()
-            )));
-        }
-        Ok(Predictions {
-            mean: xs
-                .chunks_exact(d)
-                .map(|q| self.igmn.predict(q).unwrap_or(self.prior))
-                .collect(),
-            std: None,
+        point_predictions(xs, self.dim(), |q| {
+            self.igmn.predict(q).unwrap_or(self.prior)
         })
     }
 }
@@ -505,19 +499,8 @@ impl IncrementalLearner for TreeLearner {
         Ok(())
     }
     fn predict(&self, xs: &[f64]) -> Result<Predictions, LearnError> {
-        let d = self.dim;
-        if !xs.len().is_multiple_of(d) {
-            return Err(LearnError::BadData(format!(
-                "{} query values for dimension {d}",
-                xs.len()
-            )));
-        }
-        Ok(Predictions {
-            mean: xs
-                .chunks_exact(d)
-                .map(|q| self.tree.as_ref().map_or(self.prior, |t| t.predict(q)))
-                .collect(),
-            std: None,
+        point_predictions(xs, self.dim, |q| {
+            self.tree.as_ref().map_or(self.prior, |t| t.predict(q))
         })
     }
 }
@@ -535,7 +518,7 @@ pub struct StreamTrace {
     pub mean_std: Option<Vec<f64>>,
 }
 
-/// The `000` §V-A protocol on one stream (`x` n × dim row-major, `y` the recorded costs, in
+/// The Prágr19 §V-A protocol on one stream (`x` n × dim row-major, `y` the recorded costs, in
 /// recording order): learn pair k, predict every pair, for k = 1 … n (module docs).
 pub fn run_stream(
     learner: &mut dyn IncrementalLearner,
@@ -570,7 +553,7 @@ pub fn run_stream(
     Ok(t)
 }
 
-/// The thesis C1 protocol (module docs): the absolute errors |ŷ − y| of `spec` learning on the
+/// The Prágr18 protocol (module docs): the absolute errors |ŷ − y| of `spec` learning on the
 /// first pass (`train_x`, `train_y`) and predicting the second (`test_x`, `test_y`, descriptors
 /// from the aerial view). Batch learners: errors on the second pass only; incremental learners:
 /// query-then-learn over both passes (a query before the first learned pair is not scored).
@@ -649,7 +632,7 @@ mod tests {
         v
     }
 
-    /// Decision 7's degenerate `000` descriptors: a flat patch gives shape (0, 0, 1) on every
+    /// Decision 7's degenerate Prágr19 descriptors: a flat patch gives shape (0, 0, 1) on every
     /// cell, a missing colour a constant appearance; with constant or varying costs every learner
     /// stays finite, and a stream is a function of its data (timings aside).
     #[test]
@@ -703,8 +686,8 @@ mod tests {
             assert!(l.learn(&[f64::NAN, 0.0], 1.0).is_err());
             assert!(l.learn(&[0.0, 0.0], f64::INFINITY).is_err());
             assert_eq!(l.predict(&[0.3, 0.3]).unwrap().mean, vec![1.5]);
-            // C1 with an empty first pass: batch learners predict the prior, incremental ones
-            // still learn the second pass.
+            // Prágr18's protocol with an empty first pass: batch learners predict the prior,
+            // incremental ones still learn the second pass.
             let e = c1_errors(
                 &spec,
                 2,

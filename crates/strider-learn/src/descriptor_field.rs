@@ -1,7 +1,7 @@
 //! A dense field of terrain descriptors over a rectangle of the map lattice.
 //!
-//! The learners are generic over the descriptor: the 9-bin colour histogram ta(ν) of `001`
-//! §4.2, the 5-D shape + Lab descriptor of `000` Eq. 10, or anything else with a fixed
+//! The learners are generic over the descriptor: the 9-bin colour histogram ta(ν) of Prágr22
+//! §4.2, the 5-D shape + Lab descriptor of Prágr19 Eq. 10, or anything else with a fixed
 //! dimension. The map crate computes them as `Raster<Option<[f32; N]>>`; this type flattens them
 //! into one `f64` buffer (what the GP works on) and a "described" mask, and refuses non-finite
 //! values so nothing downstream ever sees a NaN.

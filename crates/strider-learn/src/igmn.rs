@@ -1,5 +1,5 @@
-//! The Incremental Gaussian Mixture Network (IGMN) regressor of the thesis C1 learner benchmark
-//! and of the `000` §V-A comparison (Heinen, Engel & Pinto 2011; Pinto & Engel 2015, "A Fast
+//! The Incremental Gaussian Mixture Network (IGMN) regressor of the Prágr18 learner benchmark
+//! and of the Prágr19 §V-A comparison (Heinen, Engel & Pinto 2011; Pinto & Engel 2015, "A Fast
 //! Incremental Gaussian Mixture Model").
 //!
 //! # Variant
@@ -25,9 +25,9 @@
 //! still gets a finite convex combination of the components' regressions. As in the papers the
 //! IGMN gives no model confidence: [`Igmn::predict`] returns the mean only.
 //!
-//! # Parameters (thesis C1 §III-B.3)
+//! # Parameters (Prágr18 §III-B.3)
 //! K = 10 components, grace period v_min = 100, sp_min = 3, δ = 1 ([`IgmnParams::default`]); the
-//! novelty level β = 0.1 is not given in the thesis (0.1 is the value of Heinen et al.).
+//! novelty level β = 0.1 is not given in Prágr18 (0.1 is the value of Heinen et al.).
 //!
 //! # Why covariances rather than Fast-IGMN's precision matrices
 //! Fast-IGMN keeps C⁻¹ and |C| by two rank-one (Sherman–Morrison) updates, O(K D²) per point. The
@@ -36,7 +36,7 @@
 //! features, a missing colour constant appearance features). This module keeps C_j and
 //! re-factorises it (Cholesky, O(D³)) after each update instead, with every variance floored at
 //! (10⁻³ δ σ_k)² and a jitter ladder as a last resort. For D ≤ 15 that is a few microseconds per
-//! point and per component, so the learner stays the fastest of the benchmark (`000` Fig. 5a).
+//! point and per component, so the learner stays the fastest of the benchmark (Prágr19 Fig. 5a).
 //!
 //! The χ² quantile uses the Wilson–Hilferty approximation (≈ 1 % accurate for D ≥ 2).
 
@@ -61,7 +61,7 @@ pub enum IgmnError {
     NonFinite(String),
 }
 
-/// IGMN parameters (thesis C1 §III-B.3).
+/// IGMN parameters (Prágr18 §III-B.3).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IgmnParams {
     /// Cap K on the number of components (≥ 1).
@@ -77,7 +77,7 @@ pub struct IgmnParams {
 }
 
 impl Default for IgmnParams {
-    /// K = 10, v_min = 100, sp_min = 3, δ = 1 (thesis C1), β = 0.1 (Heinen et al.).
+    /// K = 10, v_min = 100, sp_min = 3, δ = 1 (Prágr18), β = 0.1 (Heinen et al.).
     fn default() -> Self {
         IgmnParams {
             max_components: 10,

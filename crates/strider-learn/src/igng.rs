@@ -1,4 +1,4 @@
-//! Terrain classes by an Incremental Growing Neural Gas (IGNG; `001` §4.3 Alg. 7 and appendix
+//! Terrain classes by an Incremental Growing Neural Gas (IGNG; Prágr22 §4.3 Alg. 7 and appendix
 //! Alg. 11, after Prudent and Ennaji 2005; decision 17).
 //!
 //! The gas is a graph of neurons (prototypes in descriptor space, each with an age) and edges
@@ -7,7 +7,7 @@
 //! keeps its [`ClassId`] for as long as its neuron lives; ids are never reused.
 //!
 //! [`Igng::adapt`] is one step of Alg. 11 for a measurement x, with ω₁, ω₂ the nearest and second
-//! nearest neurons and σ = σ^IGNG (= 2l, `001` §4.3; [`IgngParams::from_lengthscale`]):
+//! nearest neurons and σ = σ^IGNG (= 2l, Prágr22 §4.3; [`IgngParams::from_lengthscale`]):
 //!
 //! 1. no neuron, or ‖x − ω₁‖ > σ: insert an embryo neuron at x with age 1 (lines 4–5);
 //! 2. else if there is one neuron only or ‖x − ω₂‖ > σ: insert a neuron at x with age 1 and an edge
@@ -56,7 +56,7 @@
 //!
 //! Rows or measurements with a non-finite component are rejected and counted, never adapted to.
 //!
-//! Defaults (`001` Table 3): ε₁ = 1e-3, ε_nb = 1e-5, a_mature = 100, a_max = 50, n^IGNG = 5000.
+//! Defaults (Prágr22 Table 3): ε₁ = 1e-3, ε_nb = 1e-5, a_mature = 100, a_max = 50, n^IGNG = 5000.
 //! σ has no default: it is 2l for the model's GP lengthscale l (0.4 → σ = 0.8).
 
 use std::collections::BTreeMap;
@@ -118,7 +118,7 @@ pub enum InsertionRule {
     Alg11,
 }
 
-/// IGNG parameters (`001` Table 3 names in brackets).
+/// IGNG parameters (Prágr22 Table 3 names in brackets).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IgngParams {
     /// Adaptation threshold σ^IGNG = 2l (l the GP lengthscale), descriptor units.
@@ -138,7 +138,7 @@ pub struct IgngParams {
 }
 
 impl IgngParams {
-    /// The paper's defaults with σ^IGNG = 2 · `lengthscale` (`001` §4.3).
+    /// The paper's defaults with σ^IGNG = 2 · `lengthscale` (Prágr22 §4.3).
     pub fn from_lengthscale(lengthscale: f64) -> Self {
         Self::with_sigma(2.0 * lengthscale)
     }

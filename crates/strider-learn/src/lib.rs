@@ -1,25 +1,26 @@
 //! # strider-learn
 //!
-//! Traversal-cost learning (`001` §4.3, `000` §III–IV): everything between "the robot
+//! Traversal-cost learning (Prágr22 §4.3, Prágr19 §III–IV): everything between "the robot
 //! experienced this cost on this terrain" and "these are the planning costs per gait, and these
 //! are the goals where the models can still learn". One module per concept:
 //!
-//! * [`bench`](mod@bench): the learner benchmark harness of `000` §V-A and thesis C1 (one interface over
-//!   GP, RBCM, IGMN and tree; the incremental-stream and the aerial-view protocols).
-//! * [`cost_model`]: the per-gait traversal cost model C^g (`001` Alg. 5–10, Eq. 12–18, 22–26).
-//! * [`descriptor_field`]: terrain descriptors (ta(ν) of `001` §4.2 or the 5-D descriptor of
-//!   `000` Eq. 10) flattened for the learners, non-finite values refused.
+//! * [`bench`](mod@bench): the learner benchmark harness of Prágr19 §V-A and Prágr18 (one
+//!   interface over GP, RBCM, IGMN and tree; the incremental-stream and the aerial-view
+//!   protocols).
+//! * [`cost_model`]: the per-gait traversal cost model C^g (Prágr22 Alg. 5–10, Eq. 12–18, 22–26).
+//! * [`descriptor_field`]: terrain descriptors (ta(ν) of Prágr22 §4.2 or the 5-D descriptor of
+//!   Prágr19 Eq. 10) flattened for the learners, non-finite values refused.
 //! * [`signals`]: cost measurements from pose/gait and proprioceptive streams — inverse velocity
-//!   with the tanh bound (`001` Eq. 19–20, decision 8), roll variance (`000`), energy per metre
-//!   and cost of transport (thesis C1, `003`), stuck detection (decision 9).
-//! * [`gp`]: exact GP regression with O(n²) insert/remove of training points (`001` Eq. 14–16,
+//!   with the tanh bound (Prágr22 Eq. 19–20, decision 8), roll variance (Prágr19), energy per metre
+//!   and cost of transport (Prágr18, MartinCorke), stuck detection (decision 9).
+//! * [`gp`]: exact GP regression with O(n²) insert/remove of training points (Prágr22 Eq. 14–16,
 //!   21; decisions 12–14).
-//! * [`rbcm`]: the robust Bayesian committee machine of GP experts (`000` Eq. 7–9, decision 15).
-//! * [`igng`]: incremental growing neural gas terrain classes (`001` Alg. 11, decision 17).
-//! * [`morphology`]: class erosion and dilation (`001` Eq. 25–26, decision 18).
-//! * [`igmn`]: the incremental Gaussian mixture network regressor (thesis C1, `000` §V-A).
-//! * [`regression_tree`]: the depth-5 CART regression tree (thesis C1).
-//! * [`mixture`]: the GP mixture model of `004` (Eq. 3–6): mean-shift clusters, gating
+//! * [`rbcm`]: the robust Bayesian committee machine of GP experts (Prágr19 Eq. 7–9, decision 15).
+//! * [`igng`]: incremental growing neural gas terrain classes (Prágr22 Alg. 11, decision 17).
+//! * [`morphology`]: class erosion and dilation (Prágr22 Eq. 25–26, decision 18).
+//! * [`igmn`]: the incremental Gaussian mixture network regressor (Prágr18, Prágr19 §V-A).
+//! * [`regression_tree`]: the depth-5 CART regression tree (Prágr18).
+//! * [`mixture`]: the GP mixture model of Nardi19 (Eq. 3–6): mean-shift clusters, gating
 //!   regressions on position and aerial colour, heteroscedastic component GPs (decision 20).
 //!
 //! The crate works on the map crate's layers and descriptors and knows nothing of the simulator.
@@ -35,3 +36,4 @@ pub mod morphology;
 pub mod rbcm;
 pub mod regression_tree;
 pub mod signals;
+mod training_data;

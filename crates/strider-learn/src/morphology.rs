@@ -1,4 +1,4 @@
-//! Erosion and dilation of terrain-class maps (`001` appendix Eq. 25–26, Alg. 7 line 9 and
+//! Erosion and dilation of terrain-class maps (Prágr22 appendix Eq. 25–26, Alg. 7 line 9 and
 //! Alg. 10 line 2; decision 18).
 //!
 //! A class map is a dense row-major [`Raster`] of [`TerrainCell`] over a `CellRect`. Three
@@ -102,43 +102,19 @@ pub fn erode(
     raster: &Raster<TerrainCell>,
     steps: usize,
 ) -> Result<Raster<TerrainCell>, MorphologyError> {
-    check(raster)?;
-    let (w, h) = (raster.rect.width as usize, raster.rect.height as usize);
-    let mut cur = raster.values.clone();
-    let mut next = cur.clone();
-    for _ in 0..steps {
-        let mut changed = false;
-        for y in 0..h {
-            for x in 0..w {
-                let k = y * w + x;
-                let TerrainCell::Class(c) = cur[k] else {
-                    next[k] = cur[k];
-                    continue;
-                };
-                let keep = NEIGHBOURS8.iter().all(|&(di, dj)| {
-                    let (nx, ny) = (x as i64 + di as i64, y as i64 + dj as i64);
-                    nx >= 0
-                        && ny >= 0
-                        && (nx as usize) < w
-                        && (ny as usize) < h
-                        && cur[ny as usize * w + nx as usize] == TerrainCell::Class(c)
-                });
-                next[k] = if keep {
-                    cur[k]
-                } else {
-                    changed = true;
-                    TerrainCell::Eroded
-                };
-            }
-        }
-        std::mem::swap(&mut cur, &mut next);
-        if !changed {
-            break;
-        }
-    }
-    Ok(Raster {
-        rect: raster.rect,
-        values: cur,
+    synchronous_steps(raster, steps, |cur, w, h, x, y| {
+        let TerrainCell::Class(c) = cur[y * w + x] else {
+            return None;
+        };
+        let keep = NEIGHBOURS8.iter().all(|&(di, dj)| {
+            let (nx, ny) = (x as i64 + di as i64, y as i64 + dj as i64);
+            nx >= 0
+                && ny >= 0
+                && (nx as usize) < w
+                && (ny as usize) < h
+                && cur[ny as usize * w + nx as usize] == TerrainCell::Class(c)
+        });
+        (!keep).then_some(TerrainCell::Eroded)
     })
 }
 
@@ -149,43 +125,58 @@ pub fn dilate(
     n_size: usize,
     n_steps: usize,
 ) -> Result<Raster<TerrainCell>, MorphologyError> {
+    // Votes of one window: (class, count), reused across cells.
+    let mut votes: Vec<(ClassId, u32)> = Vec::new();
+    synchronous_steps(raster, n_steps, |cur, w, h, x, y| {
+        if cur[y * w + x] != TerrainCell::Eroded {
+            return None;
+        }
+        votes.clear();
+        let (x0, x1) = (x.saturating_sub(n_size), (x + n_size).min(w - 1));
+        let (y0, y1) = (y.saturating_sub(n_size), (y + n_size).min(h - 1));
+        for wy in y0..=y1 {
+            for wx in x0..=x1 {
+                if let TerrainCell::Class(c) = cur[wy * w + wx] {
+                    match votes.iter_mut().find(|(vc, _)| *vc == c) {
+                        Some((_, n)) => *n += 1,
+                        None => votes.push((c, 1)),
+                    }
+                }
+            }
+        }
+        // Most votes; ties to the lowest id.
+        votes
+            .iter()
+            .copied()
+            .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+            .map(|(c, _)| TerrainCell::Class(c))
+    })
+}
+
+/// Up to `steps` synchronous passes over the raster: `rule(map, width, height, x, y)` gives the
+/// new value of cell (x, y) from the previous pass's map only, or `None` to keep it. Stops early
+/// after a pass that changed nothing.
+fn synchronous_steps(
+    raster: &Raster<TerrainCell>,
+    steps: usize,
+    mut rule: impl FnMut(&[TerrainCell], usize, usize, usize, usize) -> Option<TerrainCell>,
+) -> Result<Raster<TerrainCell>, MorphologyError> {
     check(raster)?;
     let (w, h) = (raster.rect.width as usize, raster.rect.height as usize);
     let mut cur = raster.values.clone();
     let mut next = cur.clone();
-    // Votes of one window: (class, count), reused across cells.
-    let mut votes: Vec<(ClassId, u32)> = Vec::new();
-    for _ in 0..n_steps {
+    for _ in 0..steps {
         let mut changed = false;
         for y in 0..h {
             for x in 0..w {
                 let k = y * w + x;
-                next[k] = cur[k];
-                if cur[k] != TerrainCell::Eroded {
-                    continue;
-                }
-                votes.clear();
-                let (x0, x1) = (x.saturating_sub(n_size), (x + n_size).min(w - 1));
-                let (y0, y1) = (y.saturating_sub(n_size), (y + n_size).min(h - 1));
-                for wy in y0..=y1 {
-                    for wx in x0..=x1 {
-                        if let TerrainCell::Class(c) = cur[wy * w + wx] {
-                            match votes.iter_mut().find(|(vc, _)| *vc == c) {
-                                Some((_, n)) => *n += 1,
-                                None => votes.push((c, 1)),
-                            }
-                        }
+                next[k] = match rule(&cur, w, h, x, y) {
+                    Some(v) => {
+                        changed = true;
+                        v
                     }
-                }
-                // Most votes; ties to the lowest id.
-                let best = votes
-                    .iter()
-                    .copied()
-                    .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)));
-                if let Some((c, _)) = best {
-                    next[k] = TerrainCell::Class(c);
-                    changed = true;
-                }
+                    None => cur[k],
+                };
             }
         }
         std::mem::swap(&mut cur, &mut next);

@@ -1,4 +1,4 @@
-//! The robust Bayesian committee machine of GP experts (`000` Eq. 7–9, decision 15).
+//! The robust Bayesian committee machine of GP experts (Prágr19 Eq. 7–9, decision 15).
 //!
 //! Training points fill experts in arrival order, each up to `m_max` points; only the newest
 //! expert changes (an O(m_max²) insertion), so learning stays cheap however long the robot runs.
@@ -16,7 +16,7 @@
 //! expert of ≥ m_min points the prediction is the prior.
 //!
 //! # Hyperparameters per expert
-//! [`Rbcm::push`] keeps the shared hyperparameters. [`Rbcm::push_fitted`] is the `000` §V-A
+//! [`Rbcm::push`] keeps the shared hyperparameters. [`Rbcm::push_fitted`] is the Prágr19 §V-A
 //! setup (each GPy expert optimised by L-BFGS-B, ≤ 200 steps): after the insertion the newest
 //! expert's lengthscale, σ_s² and σ_n² are refitted by [`fit_hyperparameters`] (bounded,
 //! warm-started from its previous values; a new expert starts from the shared ones). Experts then
@@ -30,9 +30,9 @@ use crate::gp::{Gp, GpError, GpParams, HyperBounds, Prediction, fit_hyperparamet
 /// How experts are weighted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum RbcmVariant {
-    /// The robust BCM: β_i = ½ (ln K** − ln σ_i²) ≥ 0 (`000` Eq. 8–9).
+    /// The robust BCM: β_i = ½ (ln K** − ln σ_i²) ≥ 0 (Prágr19 Eq. 8–9).
     Robust,
-    /// The plain BCM: β_i = 1 (`000` Eq. 7).
+    /// The plain BCM: β_i = 1 (Prágr19 Eq. 7).
     Bcm,
 }
 
@@ -41,9 +41,9 @@ pub enum RbcmVariant {
 pub struct RbcmParams {
     /// Points per expert; a new expert starts when the newest has this many (≥ 1).
     pub m_max: usize,
-    /// Experts with fewer points take no part in predictions (`000`: small experts are noisy).
+    /// Experts with fewer points take no part in predictions (Prágr19: small experts are noisy).
     pub m_min: usize,
-    /// Robust (default in `000`) or plain BCM weights.
+    /// Robust (default in Prágr19) or plain BCM weights.
     pub variant: RbcmVariant,
 }
 
@@ -148,24 +148,19 @@ impl Rbcm {
         Ok(())
     }
 
-    /// The committee prediction at `x` (`000` Eq. 7–9).
+    /// The committee prediction at `x` (Prágr19 Eq. 7–9).
     ///
     /// # Panics
     /// If `x.len() != dim()`.
     pub fn predict(&self, x: &[f64]) -> Prediction {
         assert_eq!(x.len(), self.dim, "query of the wrong dimension");
         let mut scratch = Vec::new();
-        self.combine(
-            self.experts
-                .iter()
-                .filter(|e| e.len() >= self.rbcm.m_min.max(1))
-                .map(|e| {
-                    (
-                        e.predict_with(x, &mut scratch),
-                        e.params().kernel.prior_variance(),
-                    )
-                }),
-        )
+        self.combine(self.experts.iter().filter(|e| self.qualifies(e)).map(|e| {
+            (
+                e.predict_with(x, &mut scratch),
+                e.params().kernel.prior_variance(),
+            )
+        }))
     }
 
     /// Predictions at many inputs (`xs` q × dim row-major); each expert predicts the batch with
@@ -177,11 +172,7 @@ impl Rbcm {
         latent_var: &mut [f64],
     ) -> Result<(), GpError> {
         let q = mean.len();
-        let qualifying: Vec<&Gp> = self
-            .experts
-            .iter()
-            .filter(|e| e.len() >= self.rbcm.m_min.max(1))
-            .collect();
+        let qualifying: Vec<&Gp> = self.experts.iter().filter(|e| self.qualifies(e)).collect();
         let mut means = vec![0.0; q * qualifying.len()];
         let mut vars = vec![0.0; q * qualifying.len()];
         if qualifying.is_empty() {
@@ -227,9 +218,12 @@ impl Rbcm {
 
     /// True when expert `i` takes part in predictions (it has at least m_min points).
     pub fn takes_part(&self, i: usize) -> bool {
-        self.experts
-            .get(i)
-            .is_some_and(|e| e.len() >= self.rbcm.m_min.max(1))
+        self.experts.get(i).is_some_and(|e| self.qualifies(e))
+    }
+
+    /// True for an expert with at least m_min points: it takes part in predictions.
+    fn qualifies(&self, e: &Gp) -> bool {
+        e.len() >= self.rbcm.m_min.max(1)
     }
 
     /// The committee's combination (Eq. 7–9) of expert predictions made elsewhere, e.g. cached
@@ -243,7 +237,7 @@ impl Rbcm {
         self.combine(experts)
     }
 
-    /// β for one expert variance (`000` Eq. 9, clamped; 1 for the BCM), with the shared K**.
+    /// β for one expert variance (Prágr19 Eq. 9, clamped; 1 for the BCM), with the shared K**.
     pub fn beta(&self, expert_variance: f64) -> f64 {
         self.beta_with(self.params.kernel.prior_variance(), expert_variance)
     }
@@ -305,6 +299,11 @@ mod tests {
     fn two_experts(variant: RbcmVariant, prior_mean: f64) -> Rbcm {
         // Expert 1: one point (0, 1); expert 2: one point (1, 2). 1-D, SE, l = 1, σ_s² = 1,
         // σ_n² = 0.25.
+        two_experts_with_targets(variant, prior_mean, [1.0, 2.0])
+    }
+
+    /// One expert per point: (0, `y[0]`) and (1, `y[1]`).
+    fn two_experts_with_targets(variant: RbcmVariant, prior_mean: f64, y: [f64; 2]) -> Rbcm {
         let mut r = Rbcm::new(
             1,
             params(prior_mean),
@@ -315,8 +314,8 @@ mod tests {
             },
         )
         .unwrap();
-        r.push(&[0.0], 1.0).unwrap();
-        r.push(&[1.0], 2.0).unwrap();
+        r.push(&[0.0], y[0]).unwrap();
+        r.push(&[1.0], y[1]).unwrap();
         r
     }
 
@@ -366,18 +365,7 @@ mod tests {
         // Adding c to every target and to the prior mean adds c to the committee mean.
         for variant in [RbcmVariant::Robust, RbcmVariant::Bcm] {
             let a = two_experts(variant, 0.0);
-            let mut b = Rbcm::new(
-                1,
-                params(3.0),
-                RbcmParams {
-                    m_max: 1,
-                    m_min: 1,
-                    variant,
-                },
-            )
-            .unwrap();
-            b.push(&[0.0], 4.0).unwrap();
-            b.push(&[1.0], 5.0).unwrap();
+            let b = two_experts_with_targets(variant, 3.0, [4.0, 5.0]);
             for x in [-2.0, 0.0, 0.3, 0.5, 1.0, 4.0] {
                 let (pa, pb) = (a.predict(&[x]), b.predict(&[x]));
                 assert!((pa.mean + 3.0 - pb.mean).abs() < 1e-12, "{variant:?} {x}");

@@ -1,5 +1,5 @@
-//! The regression tree of the thesis C1 learner benchmark: CART with recursive partitioning to
-//! depth d = 5 (thesis C1 §III-B.2; Breiman et al. 1984).
+//! The regression tree of the Prágr18 learner benchmark: CART with recursive partitioning to
+//! depth d = 5 (Prágr18 §III-B.2; Breiman et al. 1984).
 //!
 //! # Algorithm
 //! Greedy top-down induction on squared error. At a node holding the samples S, every feature f
@@ -18,6 +18,8 @@
 //! the incremental benchmark refits it after every new pair (its "learning time").
 
 use thiserror::Error;
+
+use crate::training_data::first_non_finite;
 
 /// Errors of tree induction.
 #[derive(Clone, Debug, Error, PartialEq)]
@@ -39,7 +41,7 @@ pub enum TreeError {
 /// Tree-induction parameters.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct TreeParams {
-    /// The deepest level a node may sit at (the root is depth 0; thesis C1: 5).
+    /// The deepest level a node may sit at (the root is depth 0; Prágr18: 5).
     pub max_depth: usize,
     /// Nodes with fewer samples become leaves (≥ 2).
     pub min_samples_split: usize,
@@ -48,7 +50,7 @@ pub struct TreeParams {
 }
 
 impl Default for TreeParams {
-    /// Depth 5 (thesis C1), split nodes of ≥ 2 samples, leaves of ≥ 1.
+    /// Depth 5 (Prágr18), split nodes of ≥ 2 samples, leaves of ≥ 1.
     fn default() -> Self {
         TreeParams {
             max_depth: 5,
@@ -118,15 +120,8 @@ impl RegressionTree {
         if y.is_empty() {
             return Err(TreeError::Empty);
         }
-        if let Some(k) = x.iter().position(|v| !v.is_finite()) {
-            return Err(TreeError::NonFinite(format!(
-                "x[{}] of sample {}",
-                k % dim,
-                k / dim
-            )));
-        }
-        if let Some(i) = y.iter().position(|v| !v.is_finite()) {
-            return Err(TreeError::NonFinite(format!("y of sample {i}")));
+        if let Some(what) = first_non_finite(dim, x, y, "sample") {
+            return Err(TreeError::NonFinite(what));
         }
         let mut t = RegressionTree {
             dim,

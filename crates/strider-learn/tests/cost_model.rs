@@ -1,4 +1,4 @@
-//! The per-gait cost model (`001` Alg. 5–10) on a synthetic map with three terrain types and a
+//! The per-gait cost model (Prágr22 Alg. 5–10) on a synthetic map with three terrain types and a
 //! thin one-cell-wide line of a fourth.
 
 use proptest::prelude::*;

@@ -73,6 +73,15 @@ fn naive_predict(p: &GpParams, d: usize, x: &[f64], y: &[f64], q: &[f64]) -> (f6
     (mean, var.max(0.0))
 }
 
+/// A GP with the points of (`x`, `y`) pushed one at a time.
+fn pushed_one_by_one(d: usize, p: &GpParams, x: &[f64], y: &[f64]) -> Gp {
+    let mut gp = Gp::new(d, p.clone()).unwrap();
+    for (xi, &yi) in x.chunks_exact(d).zip(y) {
+        gp.push(xi, yi).unwrap();
+    }
+    gp
+}
+
 fn random_data(rng: &mut ChaCha8Rng, n: usize, d: usize) -> (Vec<f64>, Vec<f64>) {
     let x: Vec<f64> = (0..n * d).map(|_| rng.random_range(-1.0..1.0)).collect();
     let y: Vec<f64> = (0..n)
@@ -113,10 +122,7 @@ proptest! {
         let ls = if ard { (0..d).map(|_| rng.random_range(0.2..2.0)).collect() } else { vec![0.6] };
         let p = params(KINDS[kind], ls, rng.random_range(0.5..2.0), noise, m);
         let fitted = Gp::fit(d, p.clone(), &x, &y).unwrap();
-        let mut pushed = Gp::new(d, p.clone()).unwrap();
-        for i in 0..n {
-            pushed.push(&x[i * d..(i + 1) * d], y[i]).unwrap();
-        }
+        let pushed = pushed_one_by_one(d, &p, &x, &y);
         prop_assert_eq!(pushed.len(), n);
         prop_assert!((pushed.log_marginal_likelihood() - fitted.log_marginal_likelihood()).abs() < 1e-8);
         let queries: Vec<f64> = (0..5 * d).map(|_| rng.random_range(-1.5..1.5)).collect();
@@ -149,10 +155,7 @@ proptest! {
         let n = n0 + k;
         let (x, y) = random_data(&mut rng, n, d);
         let p = params(KINDS[kind], vec![0.6], rng.random_range(0.5..2.0), noise, m);
-        let mut pushed = Gp::new(d, p.clone()).unwrap();
-        for i in 0..n {
-            pushed.push(&x[i * d..(i + 1) * d], y[i]).unwrap();
-        }
+        let pushed = pushed_one_by_one(d, &p, &x, &y);
         let mut extended = Gp::new(d, p.clone()).unwrap();
         extended.extend(&x[..n0 * d], &y[..n0]).unwrap();
         extended.extend(&x[n0 * d..], &y[n0..]).unwrap();

@@ -1,4 +1,4 @@
-//! The IGMN regressor (thesis C1 parameters): statistics of a single component, the component
+//! The IGMN regressor (Prágr18 parameters): statistics of a single component, the component
 //! cap, pruning, finite predictions on degenerate data, determinism.
 
 use proptest::prelude::*;

@@ -1,4 +1,4 @@
-//! Tests of the IGNG terrain classes (`001` Alg. 11, decision 17).
+//! Tests of the IGNG terrain classes (Prágr22 Alg. 11, decision 17).
 
 use proptest::prelude::*;
 use rand::rngs::ChaCha8Rng;

@@ -1,4 +1,4 @@
-//! The `004` GP mixture against the plain GP and against what it is for: a one-component
+//! The Nardi19 GP mixture against the plain GP and against what it is for: a one-component
 //! mixture is exactly the single GP; Eq. 4's noise multipliers behave like removing a point in
 //! the limit; the aerial gating predicts unvisited terrain from its colour; bad input is an
 //! error, never a panic or a NaN.
@@ -24,7 +24,7 @@ fn se(l: f64, s2: f64, n2: f64, m: f64) -> GpParams {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 12, .. ProptestConfig::default() })]
 
-    /// A mixture limited to one component is the single GP of `004` §III: same fitted
+    /// A mixture limited to one component is the single GP of Nardi19 §III: same fitted
     /// hyperparameters, prior mean the mean of y, Ψ = I, and Eq. 3 reduces to Eq. 2.
     #[test]
     fn one_component_mixture_equals_the_single_gp(

@@ -1,4 +1,4 @@
-//! Tests of class-map erosion and dilation (`001` Eq. 25–26, decision 18).
+//! Tests of class-map erosion and dilation (Prágr22 Eq. 25–26, decision 18).
 
 use strider_core::grid::{Cell, CellRect};
 use strider_learn::igng::ClassId;
@@ -34,6 +34,22 @@ fn filled(
     raster(&rows)
 }
 
+/// A `size` × `size` raster with the square `span` × `span` of `inside` on `outside`.
+fn block(
+    size: usize,
+    span: std::ops::Range<usize>,
+    inside: TerrainCell,
+    outside: TerrainCell,
+) -> Raster<TerrainCell> {
+    filled(size, size, |x, y| {
+        if span.contains(&x) && span.contains(&y) {
+            inside
+        } else {
+            outside
+        }
+    })
+}
+
 fn at(r: &Raster<TerrainCell>, x: usize, y: usize) -> TerrainCell {
     r.values[y * r.rect.width as usize + x]
 }
@@ -56,13 +72,7 @@ fn one_cell_wide_line_is_eroded_completely() {
 
 #[test]
 fn five_by_five_block_shrinks_to_three_by_three() {
-    let r = filled(9, 9, |x, y| {
-        if (2..7).contains(&x) && (2..7).contains(&y) {
-            c(3)
-        } else {
-            c(0)
-        }
-    });
+    let r = block(9, 2..7, c(3), c(0));
     let e = erode(&r, 1).unwrap();
     let block: Vec<(usize, usize)> = (0..9)
         .flat_map(|y| (0..9).map(move |x| (x, y)))
@@ -85,13 +95,7 @@ fn five_by_five_block_shrinks_to_three_by_three() {
 fn unknown_and_outside_neighbours_erode_unknown_cells_stay() {
     // 3x3 known block in an unknown field: only its centre survives; the raster edge counts as
     // unknown, so a fully known 3x3 raster keeps only its centre as well.
-    let r = filled(5, 5, |x, y| {
-        if (1..4).contains(&x) && (1..4).contains(&y) {
-            c(1)
-        } else {
-            U
-        }
-    });
+    let r = block(5, 1..4, c(1), U);
     let e = erode(&r, 1).unwrap();
     assert_eq!(e.values.iter().filter(|&&v| v == c(1)).count(), 1);
     assert_eq!(at(&e, 2, 2), c(1));
@@ -105,13 +109,7 @@ fn unknown_and_outside_neighbours_erode_unknown_cells_stay() {
 fn dilation_restores_an_eroded_block_border() {
     // A 5x5 class-2 block on unknown ground: erosion leaves 3x3 + an eroded ring; dilation gives
     // the ring back and leaves the unknown cells unknown.
-    let r = filled(9, 9, |x, y| {
-        if (2..7).contains(&x) && (2..7).contains(&y) {
-            c(2)
-        } else {
-            U
-        }
-    });
+    let r = block(9, 2..7, c(2), U);
     let e = erode(&r, 1).unwrap();
     assert_eq!(e.values.iter().filter(|&&v| v == E).count(), 16);
     for n_size in [1, 2] {

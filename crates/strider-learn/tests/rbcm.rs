@@ -14,6 +14,15 @@ fn data(n: usize, seed: u64) -> (Vec<f64>, Vec<f64>) {
     (x, y)
 }
 
+/// A committee over every point of (`x`, `y`), pushed in order.
+fn committee(p: GpParams, rbcm: RbcmParams, x: &[f64], y: &[f64]) -> Rbcm {
+    let mut r = Rbcm::new(2, p, rbcm).unwrap();
+    for (xi, &yi) in x.chunks_exact(2).zip(y) {
+        r.push(xi, yi).unwrap();
+    }
+    r
+}
+
 #[test]
 fn one_bcm_expert_is_the_gp() {
     let (x, y) = data(40, 1);
@@ -22,19 +31,12 @@ fn one_bcm_expert_is_the_gp() {
         ..GpParams::default()
     };
     let gp = Gp::fit(2, p.clone(), &x, &y).unwrap();
-    let mut r = Rbcm::new(
-        2,
-        p,
-        RbcmParams {
-            m_max: 100,
-            m_min: 1,
-            variant: RbcmVariant::Bcm,
-        },
-    )
-    .unwrap();
-    for i in 0..40 {
-        r.push(&x[2 * i..2 * i + 2], y[i]).unwrap();
-    }
+    let bcm = RbcmParams {
+        m_max: 100,
+        m_min: 1,
+        variant: RbcmVariant::Bcm,
+    };
+    let r = committee(p, bcm, &x, &y);
     assert_eq!(r.experts().len(), 1);
     for q in [[0.1, 0.9], [0.5, 0.5], [3.0, -2.0]] {
         let (a, b) = (r.predict(&q), gp.predict(&q));
@@ -50,19 +52,12 @@ fn robust_committee_tracks_the_gp_on_dense_data() {
     let (x, y) = data(300, 2);
     let p = GpParams::default();
     let gp = Gp::fit(2, p.clone(), &x, &y).unwrap();
-    let mut r = Rbcm::new(
-        2,
-        p,
-        RbcmParams {
-            m_max: 50,
-            m_min: 25,
-            variant: RbcmVariant::Robust,
-        },
-    )
-    .unwrap();
-    for i in 0..300 {
-        r.push(&x[2 * i..2 * i + 2], y[i]).unwrap();
-    }
+    let robust = RbcmParams {
+        m_max: 50,
+        m_min: 25,
+        variant: RbcmVariant::Robust,
+    };
+    let r = committee(p, robust, &x, &y);
     assert_eq!(r.experts().len(), 6);
     assert_eq!(r.len(), 300);
     let mut worst: f64 = 0.0;

@@ -1,12 +1,13 @@
-//! Tests of the streaming cost signals (`001` Eq. 19–20, `000` roll variance, `003`/C1 energy).
+//! Tests of the streaming cost signals (Prágr22 Eq. 19–20, Prágr19 roll variance,
+//! MartinCorke/Prágr18 energy).
 
 use approx::assert_relative_eq;
 use strider_core::geom::Point3;
 use strider_core::msg::{GaitId, PoseStamped, Proprioception};
 use strider_learn::signals::{
-    EnergyCost, EnergyParams, FallbackTimer, InverseVelocityCost, InverseVelocityParams, RATIO_CAP,
-    RollVarianceCost, RollVarianceParams, SignalError, TurningTime, hotel_load_per_metre,
-    tanh_bound,
+    EnergyCost, EnergyParams, EnergySample, FallbackTimer, InverseVelocityCost,
+    InverseVelocityParams, RATIO_CAP, RollVarianceCost, RollVarianceParams, SignalError,
+    TurningTime, hotel_load_per_metre, tanh_bound,
 };
 
 const HZ: f64 = 20.0;
@@ -18,6 +19,22 @@ fn pose(k: u32, x: f64, gait: u8) -> PoseStamped {
         gait: GaitId(gait),
         ..Default::default()
     }
+}
+
+/// Feeds tick `k` to `e`: the pose at `x` in gait 0, then a reading of `power(stamp)` watts.
+fn energy_tick(
+    e: &mut EnergyCost,
+    k: u32,
+    x: f64,
+    power: impl FnOnce(f64) -> f64,
+) -> Option<EnergySample> {
+    let p = pose(k, x, 0);
+    e.push_pose(&p);
+    e.push(&Proprioception {
+        stamp: p.stamp,
+        power_w: power(p.stamp),
+        ..Default::default()
+    })
 }
 
 fn iv(window: f64, v_max: Vec<f64>) -> InverseVelocityCost {
@@ -335,14 +352,7 @@ fn energy_per_metre_equals_hand_value() {
     let mut e = EnergyCost::new(EnergyParams::new(5.0, 2.0, 2.0)).unwrap();
     let mut last = None;
     for k in 0..200u32 {
-        let p = pose(k, 0.1 * k as f64 / HZ, 0);
-        e.push_pose(&p);
-        let pr = Proprioception {
-            stamp: p.stamp,
-            power_w: 10.0,
-            ..Default::default()
-        };
-        if let Some(s) = e.push(&pr) {
+        if let Some(s) = energy_tick(&mut e, k, 0.1 * k as f64 / HZ, |_| 10.0) {
             last = Some((k, s));
         }
     }
@@ -375,14 +385,7 @@ fn energy_trapezoid_integrates_a_power_ramp() {
     let mut e = EnergyCost::new(params).unwrap();
     let mut last = None;
     for k in 0..60u32 {
-        let p = pose(k, 0.2 * k as f64 / HZ, 0);
-        e.push_pose(&p);
-        let pr = Proprioception {
-            stamp: p.stamp,
-            power_w: p.stamp,
-            ..Default::default()
-        };
-        last = e.push(&pr).or(last);
+        last = energy_tick(&mut e, k, 0.2 * k as f64 / HZ, |t| t).or(last);
     }
     let s = last.unwrap();
     let t = 59.0 / HZ;
@@ -394,14 +397,7 @@ fn energy_trapezoid_integrates_a_power_ramp() {
 fn zero_distance_emits_nothing_and_never_inf() {
     let mut e = EnergyCost::new(EnergyParams::new(1.0, 2.0, 1.0)).unwrap();
     for k in 0..100u32 {
-        let p = pose(k, 3.0, 0);
-        e.push_pose(&p);
-        let pr = Proprioception {
-            stamp: p.stamp,
-            power_w: 7.0,
-            ..Default::default()
-        };
-        assert!(e.push(&pr).is_none());
+        assert!(energy_tick(&mut e, k, 3.0, |_| 7.0).is_none());
     }
     assert_eq!(e.short_windows(), 80);
     assert!(hotel_load_per_metre(1.0, 0.0).is_none());

@@ -1,6 +1,6 @@
 //! Strider exploration-tour planning.
 //!
-//! * [`tsplib`] reads TSPLIB / GTSPLIB instance and tour files into a dense
+//! * [`tsplib`] reads TSPLIB / GTSPLIB instance and tour files into the solver's dense
 //!   [`Instance`].
 //! * [`gtsp`] solves the (open or closed, symmetric or asymmetric)
 //!   Generalized Traveling Salesman Problem: visit exactly one vertex of every
@@ -13,5 +13,7 @@ pub mod grid;
 pub mod gtsp;
 pub mod tsplib;
 
-pub use gtsp::{Mode, Solution, SolveError, SolverParams, solve};
-pub use tsplib::{CostMatrix, Instance, InstanceError, TsplibError};
+pub use gtsp::{
+    CostMatrix, Instance, InstanceError, Mode, Solution, SolveError, SolverParams, solve,
+};
+pub use tsplib::TsplibError;

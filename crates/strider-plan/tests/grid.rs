@@ -156,7 +156,7 @@ fn brute_footprint(g: &CostGrid, r_robot: f64, a: Cell) -> f32 {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
-    /// `000` Eq. 14 search equals the `pathfinding` oracle with the mean edge cost, is
+    /// Prágr19 Eq. 14 search equals the `pathfinding` oracle with the mean edge cost, is
     /// symmetric, and its paths stay on admissible cells with legal moves adding up to the cost.
     #[test]
     fn mean_edge_dijkstra_matches_oracle(g in grid_strategy(9), pick in any::<prop::sample::Index>()) {

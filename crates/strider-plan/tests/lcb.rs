@@ -1,4 +1,4 @@
-//! Property tests of the `004` LCB planner (Eq. 7–8) against a brute-force oracle: on random
+//! Property tests of the Nardi19 LCB planner (Eq. 7–8) against a brute-force oracle: on random
 //! grids with obstacles and random μ, σ, the planned path never enters or cuts past an
 //! impassable cell, is 8-connected, costs what Eq. 7 says (cells entered), and is optimal.
 
@@ -117,7 +117,7 @@ proptest! {
 #[test]
 fn relu_flattens_negative_bounds_and_softplus_keeps_their_order() {
     // Cells: a known cheap one (μ 0.05, σ 0.1: bound −0.05), a very uncertain one (μ 0, σ 3:
-    // bound −3) and a known costly one (μ 2, σ 0). `004` §V-A: with the ReLU the first two cost
+    // bound −3) and a known costly one (μ 2, σ 0). Nardi19 §V-A: with the ReLU the first two cost
     // the same (here the floor); softplus charges each log(1 + e^bound).
     let rect = CellRect::new(Cell::new(0, 0), 3, 1);
     let (mean, std) = ([0.05, 0.0, 2.0], [0.1, 3.0, 0.0]);

@@ -1,5 +1,6 @@
 //! Type-II maximum likelihood: the log marginal likelihood's analytic gradient in log-space and a
-//! bounded projected quasi-Newton (L-BFGS-B-style) maximiser (decision 13, for `000` and `004`).
+//! bounded projected quasi-Newton (L-BFGS-B-style) maximiser (decision 13, for Prágr19 and
+//! Nardi19).
 //!
 //! With α = K⁻¹(y − m) (K including σ_n²), ∂ ln p(y|X) / ∂θ = ½ tr((ααᵀ − K⁻¹) ∂K/∂θ)
 //! (Rasmussen & Williams Eq. 5.9). The parameters are θ = (ln l₁ … ln l_k, ln σ_s², ln σ_n²),
@@ -139,29 +140,8 @@ pub fn fit_hyperparameters(
     bounds: &HyperBounds,
 ) -> Result<GpParams, GpError> {
     init.validate(dim)?;
-    for (name, (lo, hi)) in [
-        ("lengthscale", bounds.lengthscale),
-        ("signal variance", bounds.signal_variance),
-        ("noise variance", bounds.noise_variance),
-    ] {
-        if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
-            return Err(GpError::BadHyperparameter(format!(
-                "{name} bounds ({lo}, {hi}) must be finite, positive and ordered"
-            )));
-        }
-    }
-    let nl = init.kernel.lengthscales.len();
-    let mut lo = vec![bounds.lengthscale.0.ln(); nl];
-    let mut hi = vec![bounds.lengthscale.1.ln(); nl];
-    lo.push(bounds.signal_variance.0.ln());
-    hi.push(bounds.signal_variance.1.ln());
-    lo.push(bounds.noise_variance.0.ln());
-    hi.push(bounds.noise_variance.1.ln());
-    let project = |t: &mut [f64]| {
-        for ((v, a), b) in t.iter_mut().zip(&lo).zip(&hi) {
-            *v = v.clamp(*a, *b);
-        }
-    };
+    check_bounds(bounds)?;
+    let region = LogBox::new(init.kernel.lengthscales.len(), bounds);
     // Minimise f = −lml.
     let eval = |t: &[f64]| -> Option<(f64, Vec<f64>)> {
         let p = params_of(t, &init);
@@ -173,7 +153,7 @@ pub fn fit_hyperparameters(
         }
     };
     let mut theta = theta_of(&init);
-    project(&mut theta);
+    region.project(&mut theta);
     let Some((mut f, mut g)) = eval(&theta) else {
         // The start itself fails: report why.
         let p = params_of(&theta, &init);
@@ -182,31 +162,123 @@ pub fn fit_hyperparameters(
             "log marginal likelihood not finite at the initial hyperparameters".into(),
         ));
     };
-    let nv = theta.len();
-    let mem = 10;
-    let mut ss: Vec<Vec<f64>> = Vec::new();
-    let mut ys: Vec<Vec<f64>> = Vec::new();
-    let dotv = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
+    let mut memory = Lbfgs::new(10);
     for _ in 0..bounds.max_iterations {
-        // Free variables: not at a bound with the gradient pushing outwards.
-        let free: Vec<bool> = (0..nv)
+        let free = region.free_variables(&theta, &g);
+        let pg: Vec<f64> = (0..theta.len())
+            .map(|i| if free[i] { g[i] } else { 0.0 })
+            .collect();
+        if pg.iter().fold(0.0f64, |m, v| m.max(v.abs())) < 1e-6 {
+            break;
+        }
+        let dir = memory.direction(&pg, &free);
+        let t = first_step(&dir, memory.is_empty());
+        let Some((cand, step, fc, gc)) = line_search(&theta, &dir, t, f, &g, &region, &eval) else {
+            break;
+        };
+        let yv: Vec<f64> = gc.iter().zip(&g).map(|(a, b)| a - b).collect();
+        memory.remember(step, yv);
+        let done = (f - fc).abs() <= 1e-12 * f.abs().max(1.0);
+        theta = cand;
+        f = fc;
+        g = gc;
+        if done {
+            break;
+        }
+    }
+    Ok(params_of(&theta, &init))
+}
+
+/// Every bound finite, positive and ordered.
+fn check_bounds(bounds: &HyperBounds) -> Result<(), GpError> {
+    for (name, (lo, hi)) in [
+        ("lengthscale", bounds.lengthscale),
+        ("signal variance", bounds.signal_variance),
+        ("noise variance", bounds.noise_variance),
+    ] {
+        if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
+            return Err(GpError::BadHyperparameter(format!(
+                "{name} bounds ({lo}, {hi}) must be finite, positive and ordered"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The bounds in log-space, per variable θ = (ln l₁ … ln l_k, ln σ_s², ln σ_n²).
+struct LogBox {
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
+impl LogBox {
+    /// The box of `bounds` for `nl` lengthscales.
+    fn new(nl: usize, bounds: &HyperBounds) -> Self {
+        let mut lo = vec![bounds.lengthscale.0.ln(); nl];
+        let mut hi = vec![bounds.lengthscale.1.ln(); nl];
+        lo.push(bounds.signal_variance.0.ln());
+        hi.push(bounds.signal_variance.1.ln());
+        lo.push(bounds.noise_variance.0.ln());
+        hi.push(bounds.noise_variance.1.ln());
+        LogBox { lo, hi }
+    }
+
+    /// Moves `t` into the box.
+    fn project(&self, t: &mut [f64]) {
+        for ((v, a), b) in t.iter_mut().zip(&self.lo).zip(&self.hi) {
+            *v = v.clamp(*a, *b);
+        }
+    }
+
+    /// The variables that may move: not held fixed, and not at a bound with the gradient `g` of
+    /// the minimised function pushing outwards.
+    fn free_variables(&self, theta: &[f64], g: &[f64]) -> Vec<bool> {
+        let (lo, hi) = (&self.lo, &self.hi);
+        (0..theta.len())
             .map(|i| {
                 !(lo[i] == hi[i]
                     || (theta[i] <= lo[i] && g[i] > 0.0)
                     || (theta[i] >= hi[i] && g[i] < 0.0))
             })
-            .collect();
-        let pg: Vec<f64> = (0..nv).map(|i| if free[i] { g[i] } else { 0.0 }).collect();
-        if pg.iter().fold(0.0f64, |m, v| m.max(v.abs())) < 1e-6 {
-            break;
+            .collect()
+    }
+}
+
+fn dotv(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>()
+}
+
+/// The L-BFGS memory: the last steps s and gradient changes y, oldest first.
+struct Lbfgs {
+    ss: Vec<Vec<f64>>,
+    ys: Vec<Vec<f64>>,
+    len: usize,
+}
+
+impl Lbfgs {
+    fn new(len: usize) -> Self {
+        Lbfgs {
+            ss: Vec::new(),
+            ys: Vec::new(),
+            len,
         }
-        // Two-loop recursion on the free subspace.
-        let mut q = pg.clone();
+    }
+
+    fn is_empty(&self) -> bool {
+        self.ss.is_empty()
+    }
+
+    /// The quasi-Newton descent direction for the projected gradient `pg` on the `free`
+    /// variables (the two-loop recursion); when that is no descent direction, steepest descent,
+    /// and the memory is forgotten.
+    fn direction(&mut self, pg: &[f64], free: &[bool]) -> Vec<f64> {
+        let (ss, ys) = (&self.ss, &self.ys);
+        let mut q = pg.to_vec();
         let mut alphas = Vec::with_capacity(ss.len());
-        for (s, yv) in ss.iter().zip(&ys).rev() {
+        for (s, yv) in ss.iter().zip(ys).rev() {
             let rho = 1.0 / dotv(s, yv);
             let a = rho * dotv(s, &q);
-            for (qi, (yi, fi)) in q.iter_mut().zip(yv.iter().zip(&free)) {
+            for (qi, (yi, fi)) in q.iter_mut().zip(yv.iter().zip(free)) {
                 if *fi {
                     *qi -= a * yi;
                 }
@@ -217,63 +289,79 @@ pub fn fit_hyperparameters(
             let gamma = dotv(s, yv) / dotv(yv, yv);
             q.iter_mut().for_each(|v| *v *= gamma);
         }
-        for ((s, yv), (a, rho)) in ss.iter().zip(&ys).zip(alphas.into_iter().rev()) {
+        for ((s, yv), (a, rho)) in ss.iter().zip(ys).zip(alphas.into_iter().rev()) {
             let b = rho * dotv(yv, &q);
-            for (qi, (si, fi)) in q.iter_mut().zip(s.iter().zip(&free)) {
+            for (qi, (si, fi)) in q.iter_mut().zip(s.iter().zip(free)) {
                 if *fi {
                     *qi += (a - b) * si;
                 }
             }
         }
-        let mut dir: Vec<f64> = (0..nv).map(|i| if free[i] { -q[i] } else { 0.0 }).collect();
-        if dotv(&dir, &pg) >= 0.0 {
-            dir = pg.iter().map(|v| -v).collect();
-            ss.clear();
-            ys.clear();
+        let dir: Vec<f64> = (0..pg.len())
+            .map(|i| if free[i] { -q[i] } else { 0.0 })
+            .collect();
+        if dotv(&dir, pg) >= 0.0 {
+            self.ss.clear();
+            self.ys.clear();
+            return pg.iter().map(|v| -v).collect();
         }
-        // At most a step of 2 in log-space per coordinate (a factor e²).
-        let dmax = dir.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let mut t = if ss.is_empty() {
-            (1.0 / dmax).min(1.0)
-        } else {
-            1.0
-        };
-        if dmax * t > 2.0 {
-            t = 2.0 / dmax;
-        }
-        let mut accepted = None;
-        for _ in 0..40 {
-            let mut cand: Vec<f64> = theta.iter().zip(&dir).map(|(a, b)| a + t * b).collect();
-            project(&mut cand);
-            let step: Vec<f64> = cand.iter().zip(&theta).map(|(a, b)| a - b).collect();
-            if let Some((fc, gc)) = eval(&cand)
-                && fc <= f + 1e-4 * dotv(&g, &step)
-            {
-                accepted = Some((cand, step, fc, gc));
-                break;
-            }
-            t *= 0.5;
-        }
-        let Some((cand, step, fc, gc)) = accepted else {
-            break;
-        };
-        let yv: Vec<f64> = gc.iter().zip(&g).map(|(a, b)| a - b).collect();
+        dir
+    }
+
+    /// Keeps the pair (step, gradient change) when its curvature is positive enough, dropping
+    /// the oldest beyond the memory's length.
+    fn remember(&mut self, step: Vec<f64>, yv: Vec<f64>) {
         let sy = dotv(&step, &yv);
         if sy > 1e-10 * dotv(&step, &step).sqrt() * dotv(&yv, &yv).sqrt() {
-            ss.push(step);
-            ys.push(yv);
-            if ss.len() > mem {
-                ss.remove(0);
-                ys.remove(0);
+            self.ss.push(step);
+            self.ys.push(yv);
+            if self.ss.len() > self.len {
+                self.ss.remove(0);
+                self.ys.remove(0);
             }
         }
-        let done = (f - fc).abs() <= 1e-12 * f.abs().max(1.0);
-        theta = cand;
-        f = fc;
-        g = gc;
-        if done {
-            break;
-        }
     }
-    Ok(params_of(&theta, &init))
+}
+
+/// The first step length along `dir`: at most 2 in log-space per coordinate (a factor e²), and
+/// without a memory a unit step of the largest coordinate.
+fn first_step(dir: &[f64], no_memory: bool) -> f64 {
+    let dmax = dir.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut t = if no_memory {
+        (1.0 / dmax).min(1.0)
+    } else {
+        1.0
+    };
+    if dmax * t > 2.0 {
+        t = 2.0 / dmax;
+    }
+    t
+}
+
+/// A candidate θ, its step from the current θ, and f and its gradient there.
+type Accepted = (Vec<f64>, Vec<f64>, f64, Vec<f64>);
+
+/// Backtracking Armijo search along the projected path θ + t·dir, halving t up to 40 times;
+/// `None` when no step decreases f enough.
+fn line_search(
+    theta: &[f64],
+    dir: &[f64],
+    mut t: f64,
+    f: f64,
+    g: &[f64],
+    region: &LogBox,
+    eval: &impl Fn(&[f64]) -> Option<(f64, Vec<f64>)>,
+) -> Option<Accepted> {
+    for _ in 0..40 {
+        let mut cand: Vec<f64> = theta.iter().zip(dir).map(|(a, b)| a + t * b).collect();
+        region.project(&mut cand);
+        let step: Vec<f64> = cand.iter().zip(theta).map(|(a, b)| a - b).collect();
+        if let Some((fc, gc)) = eval(&cand)
+            && fc <= f + 1e-4 * dotv(g, &step)
+        {
+            return Some((cand, step, fc, gc));
+        }
+        t *= 0.5;
+    }
+    None
 }

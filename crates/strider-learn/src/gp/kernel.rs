@@ -1,11 +1,11 @@
-//! Stationary covariance functions of the scaled distance r (`001` Eq. 21 and the Matérn family).
+//! Stationary covariance functions of the scaled distance r (Prágr22 Eq. 21 and the Matérn family).
 
 use super::GpError;
 
 /// The shape of a stationary kernel k(r), with r = ‖(a − b) / l‖ the lengthscale-scaled distance.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum KernelKind {
-    /// Squared exponential σ_s² exp(−r²/2) (`001` Eq. 21; decision 13: the default).
+    /// Squared exponential σ_s² exp(−r²/2) (Prágr22 Eq. 21; decision 13: the default).
     SquaredExponential,
     /// Exponential (Matérn 1/2) σ_s² exp(−r).
     Exponential,
@@ -71,7 +71,7 @@ impl Kernel {
     }
 
     /// The prior variance k(x, x) = σ_s² (the same everywhere: the kernels are stationary). This is
-    /// K** of the RBCM (`000` Eq. 8–9, decision 15).
+    /// K** of the RBCM (Prágr19 Eq. 8–9, decision 15).
     pub fn prior_variance(&self) -> f64 {
         self.signal_variance
     }

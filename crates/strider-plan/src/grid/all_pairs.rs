@@ -1,7 +1,7 @@
 //! Cost matrix between a set of sites: one early-exit Dijkstra per site (decision 23), run in
 //! parallel with rayon, each worker reusing one [`Dijkstra`]'s buffers for all its sites.
 //!
-//! Entry `(a, b)` is C(ψ*(site_a, site_b)) of `001` Eq. 2 under the source-cell edge cost of
+//! Entry `(a, b)` is C(ψ*(site_a, site_b)) of Prágr22 Eq. 2 under the source-cell edge cost of
 //! decision 21, so the matrix is **not** symmetric in general. The diagonal is 0. A pair without
 //! a path (blocked, or either site outside the grid or inadmissible) is `f64::INFINITY`; nothing
 //! here panics on such input.

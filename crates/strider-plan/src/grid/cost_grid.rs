@@ -1,6 +1,6 @@
 //! A dense per-metre traversal-cost raster over a [`CellRect`] of the global lattice.
 //!
-//! Cell `ν` holds the per-metre cost c(ν) of `001` Eq. 4 (used as the cost of every edge leaving
+//! Cell `ν` holds the per-metre cost c(ν) of Prágr22 Eq. 4 (used as the cost of every edge leaving
 //! ν, decision 21). Finite costs must be strictly positive; `f32::INFINITY` marks a cell that is
 //! not admissible (π(ν) = 0 in Eq. 1, or inside the inflated configuration-space obstacle of
 //! decision 4). Paths never enter or leave such a cell.

@@ -1,4 +1,4 @@
-//! Cheapest 8-connected paths on a [`CostGrid`] (`001` Eq. 1–4).
+//! Cheapest 8-connected paths on a [`CostGrid`] (Prágr22 Eq. 1–4).
 //!
 //! * Eq. 1: a path is a sequence of admissible cells, each in the 8-neighbourhood of the previous.
 //! * Eq. 2: the optimal path minimises the path cost C(ψ) over all such paths.

@@ -1,4 +1,4 @@
-//! Lower-confidence-bound path planning of `004` §V-A (Eq. 7–8, decision 26).
+//! Lower-confidence-bound path planning of Nardi19 §V-A (Eq. 7–8, decision 26).
 //!
 //! The g-cost of Eq. 7 is g(x) = g(x′) + ‖x − x′‖ · ρ(μ(x) − λσ(x)): the step into x costs its
 //! length times the rectified lower confidence bound of the model *at x*, the cell entered,

@@ -1,8 +1,8 @@
-//! Dijkstra with the symmetric edge cost of `000` Eq. 14, on a [`CostGrid`] of predicted
+//! Dijkstra with the symmetric edge cost of Prágr19 Eq. 14, on a [`CostGrid`] of predicted
 //! traversal costs (the cost map Mcost of the `rbcm-greedy` explorer).
 //!
 //! Eq. 14: c(ν_i, ν_j) = ‖ν_i, ν_j‖ · (μ(ν_i) + μ(ν_j)) / 2, so unlike the source-cell cost of
-//! decision 21 ([`super::Dijkstra`]) a move costs the same both ways. Moves follow Eq. 1 of `001`
+//! decision 21 ([`super::Dijkstra`]) a move costs the same both ways. Moves follow Eq. 1 of Prágr22
 //! and the same corner rule as [`super::Dijkstra`]: a diagonal move is forbidden when both side
 //! cells are inadmissible. Mcost is small (about a thousand 10 cm cells on `lab-track`), so a plain
 //! binary heap is enough; the buffers are kept between searches so repeated plans allocate

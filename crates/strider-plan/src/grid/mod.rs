@@ -1,4 +1,4 @@
-//! Cost-aware path planning on dense rasters of the global cell lattice (`001` Eq. 1–4, 12–13,
+//! Cost-aware path planning on dense rasters of the global cell lattice (Prágr22 Eq. 1–4, 12–13,
 //! Alg. 4; decisions 4, 21, 22, 23).
 //!
 //! * [`cost_grid`] — [`CostGrid`], per-cell per-metre cost with `+∞` for inadmissible cells;
@@ -6,8 +6,8 @@
 //! * [`all_pairs`](mod@all_pairs) — parallel cost matrix between sites ([`SiteCosts`]);
 //! * [`transform`] — best-gait grid, c_loss distance transform, footprint max, gait choice;
 //! * [`smooth`] — any-angle line-of-sight smoothing of a cell path for driving;
-//! * [`mean_edge`] — Dijkstra with the symmetric mean edge cost of `000` Eq. 14;
-//! * [`lcb`] — the softplus/ReLU lower-confidence-bound cost and path of `004` Eq. 7–8
+//! * [`mean_edge`] — Dijkstra with the symmetric mean edge cost of Prágr19 Eq. 14;
+//! * [`lcb`] — the softplus/ReLU lower-confidence-bound cost and path of Nardi19 Eq. 7–8
 //!   (decision 26), on the same search.
 
 pub mod all_pairs;

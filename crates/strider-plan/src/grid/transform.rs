@@ -1,4 +1,4 @@
-//! Cost-grid transforms used before planning (`001` §4.3, decisions 4, 21, 22):
+//! Cost-grid transforms used before planning (Prágr22 §4.3, decisions 4, 21, 22):
 //!
 //! * [`best_gait`] — Eq. 13, ĉ(ν) = min_g ĉ_{C^g}(ν), with the arg-min gait per cell;
 //! * [`distance_transform`] — decision 21, ĉ'(ν) = max(ĉ(ν), max_ν' [ĉ(ν') − c_loss·‖ν − ν'‖]),

@@ -221,14 +221,8 @@ impl Operators {
         let mut eval = |j: usize, best: &mut (i64, usize, u32)| {
             let a = tour[j];
             let b = tour[if j + 1 == l { 0 } else { j + 1 }];
-            let base = p.d(a, b);
-            let ra = &p.row(a)[range.clone()];
-            let cb = &p.col(b)[range.clone()];
-            for (x, (ca, cbv)) in ra.iter().zip(cb).enumerate() {
-                let c = ca + cbv - base + noise.next();
-                if c < best.0 {
-                    *best = (c, j, range.start as u32 + x as u32);
-                }
+            if let Some((c, w)) = cheapest_on_edge(p, a, b, s, best.0, noise) {
+                *best = (c, j, w);
             }
         };
         if nn > 0 && l > 3 * nn {
@@ -277,7 +271,6 @@ impl Operators {
             return;
         }
         let mut noise = Noise::new(noise, rng.random());
-        let nn = self.insert_nn;
         self.tpos.clear();
         self.tpos.resize(p.m, u32::MAX);
         for (i, &v) in tour.iter().enumerate() {
@@ -291,98 +284,150 @@ impl Operators {
             self.tpos[s] = 0;
         }
         match op {
-            InsertOrder::Random => {
-                while !pending.is_empty() {
-                    let x = rng.random_range(0..pending.len());
-                    let s = pending.swap_remove(x) as usize;
-                    let (_, j, w) = Self::best_insertion(p, tour, &self.tpos, nn, s, &mut noise);
-                    self.insert_at(p, tour, j, w);
-                }
-            }
+            InsertOrder::Random => self.insert_random(p, tour, pending, rng, &mut noise),
             InsertOrder::Nearest | InsertOrder::Farthest => {
-                // Distance of a pending set to the partial tour, approximated
-                // by the set-to-set distance to the nearest set in the tour.
-                self.mind.clear();
-                for &s in pending.iter() {
-                    let s = s as usize;
-                    let d = p.set_nbrs[s]
-                        .iter()
-                        .find(|&&y| self.tpos[y as usize] != u32::MAX)
-                        .map_or(0, |&y| p.set_dist[s * p.m + y as usize]);
-                    self.mind.push(d);
-                }
-                let nearest = op == InsertOrder::Nearest;
-                while !pending.is_empty() {
-                    let mut pick = 0;
-                    for x in 1..pending.len() {
-                        let better = if nearest {
-                            self.mind[x] < self.mind[pick]
-                        } else {
-                            self.mind[x] > self.mind[pick]
-                        };
-                        if better {
-                            pick = x;
-                        }
-                    }
-                    let s = pending.swap_remove(pick) as usize;
-                    self.mind.swap_remove(pick);
-                    let (_, j, w) = Self::best_insertion(p, tour, &self.tpos, nn, s, &mut noise);
-                    self.insert_at(p, tour, j, w);
-                    let row = &p.set_dist[s * p.m..(s + 1) * p.m];
-                    for (x, &r) in pending.iter().enumerate() {
-                        self.mind[x] = self.mind[x].min(row[r as usize]);
-                    }
+                self.insert_by_distance(p, tour, pending, op == InsertOrder::Nearest, &mut noise)
+            }
+            InsertOrder::Cheapest => self.insert_cheapest(p, tour, pending, &mut noise),
+        }
+    }
+
+    /// The pending sets in random order, each at its cheapest place.
+    fn insert_random(
+        &mut self,
+        p: &Problem,
+        tour: &mut Vec<u32>,
+        pending: &mut Vec<u32>,
+        rng: &mut ChaCha8Rng,
+        noise: &mut Noise,
+    ) {
+        let nn = self.insert_nn;
+        while !pending.is_empty() {
+            let x = rng.random_range(0..pending.len());
+            let s = pending.swap_remove(x) as usize;
+            let (_, j, w) = Self::best_insertion(p, tour, &self.tpos, nn, s, noise);
+            self.insert_at(p, tour, j, w);
+        }
+    }
+
+    /// The pending set nearest to (`nearest`) or farthest from the partial
+    /// tour first. The distance of a set to the tour is approximated by the
+    /// set-to-set distance to the nearest set in the tour.
+    fn insert_by_distance(
+        &mut self,
+        p: &Problem,
+        tour: &mut Vec<u32>,
+        pending: &mut Vec<u32>,
+        nearest: bool,
+        noise: &mut Noise,
+    ) {
+        let nn = self.insert_nn;
+        self.mind.clear();
+        for &s in pending.iter() {
+            let s = s as usize;
+            let d = p.set_nbrs[s]
+                .iter()
+                .find(|&&y| self.tpos[y as usize] != u32::MAX)
+                .map_or(0, |&y| p.set_dist[s * p.m + y as usize]);
+            self.mind.push(d);
+        }
+        while !pending.is_empty() {
+            let mut pick = 0;
+            for x in 1..pending.len() {
+                let better = if nearest {
+                    self.mind[x] < self.mind[pick]
+                } else {
+                    self.mind[x] > self.mind[pick]
+                };
+                if better {
+                    pick = x;
                 }
             }
-            InsertOrder::Cheapest => {
-                self.cache.clear();
-                for &s in pending.iter() {
-                    let (c, j, w) =
-                        Self::best_insertion(p, tour, &self.tpos, nn, s as usize, &mut noise);
-                    let a = tour[j];
-                    let b = tour[(j + 1) % tour.len()];
-                    self.cache.push((c, w, a, b));
-                }
-                while !pending.is_empty() {
-                    let mut pick = 0;
-                    for x in 1..pending.len() {
-                        if self.cache[x].0 < self.cache[pick].0 {
-                            pick = x;
-                        }
-                    }
-                    pending.swap_remove(pick);
-                    let (_, w, a, b) = self.cache.swap_remove(pick);
-                    let j = self.tpos[p.set_of(a)] as usize;
-                    self.insert_at(p, tour, j, w);
-                    // Update the caches.
-                    for (x, &s) in pending.iter().enumerate() {
-                        let s = s as usize;
-                        let e = self.cache[x];
-                        if e.2 == a && e.3 == b {
-                            let (c, j, w2) =
-                                Self::best_insertion(p, tour, &self.tpos, nn, s, &mut noise);
-                            let a2 = tour[j];
-                            let b2 = tour[(j + 1) % tour.len()];
-                            self.cache[x] = (c, w2, a2, b2);
-                        } else {
-                            let range = p.set_range(s);
-                            let mut best = e;
-                            for (ea, eb) in [(a, w), (w, b)] {
-                                let base = p.d(ea, eb);
-                                let ra = &p.row(ea)[range.clone()];
-                                let cb = &p.col(eb)[range.clone()];
-                                for (y, (c1, c2)) in ra.iter().zip(cb).enumerate() {
-                                    let c = c1 + c2 - base + noise.next();
-                                    if c < best.0 {
-                                        best = (c, range.start as u32 + y as u32, ea, eb);
-                                    }
-                                }
-                            }
-                            self.cache[x] = best;
-                        }
-                    }
-                }
+            let s = pending.swap_remove(pick) as usize;
+            self.mind.swap_remove(pick);
+            let (_, j, w) = Self::best_insertion(p, tour, &self.tpos, nn, s, noise);
+            self.insert_at(p, tour, j, w);
+            let row = &p.set_dist[s * p.m..(s + 1) * p.m];
+            for (x, &r) in pending.iter().enumerate() {
+                self.mind[x] = self.mind[x].min(row[r as usize]);
             }
         }
     }
+
+    /// Globally cheapest insertion first. Every pending set caches its best
+    /// insertion `(cost, vertex, a, b)` on edge `a → b`; after an insertion
+    /// splits edge `a → b` only the sets cached on it are re-evaluated in
+    /// full, the others try just the two new edges.
+    fn insert_cheapest(
+        &mut self,
+        p: &Problem,
+        tour: &mut Vec<u32>,
+        pending: &mut Vec<u32>,
+        noise: &mut Noise,
+    ) {
+        let nn = self.insert_nn;
+        self.cache.clear();
+        for &s in pending.iter() {
+            let (c, j, w) = Self::best_insertion(p, tour, &self.tpos, nn, s as usize, noise);
+            let a = tour[j];
+            let b = tour[(j + 1) % tour.len()];
+            self.cache.push((c, w, a, b));
+        }
+        while !pending.is_empty() {
+            let mut pick = 0;
+            for x in 1..pending.len() {
+                if self.cache[x].0 < self.cache[pick].0 {
+                    pick = x;
+                }
+            }
+            pending.swap_remove(pick);
+            let (_, w, a, b) = self.cache.swap_remove(pick);
+            let j = self.tpos[p.set_of(a)] as usize;
+            self.insert_at(p, tour, j, w);
+            for (x, &s) in pending.iter().enumerate() {
+                let s = s as usize;
+                let e = self.cache[x];
+                self.cache[x] = if e.2 == a && e.3 == b {
+                    let (c, j, w2) = Self::best_insertion(p, tour, &self.tpos, nn, s, noise);
+                    (c, w2, tour[j], tour[(j + 1) % tour.len()])
+                } else {
+                    let mut best = e;
+                    for (ea, eb) in [(a, w), (w, b)] {
+                        if let Some((c, v)) = cheapest_on_edge(p, ea, eb, s, best.0, noise) {
+                            best = (c, v, ea, eb);
+                        }
+                    }
+                    best
+                };
+            }
+        }
+    }
+}
+
+/// The cheapest vertex of set `s` to insert on edge `a → b` when it costs
+/// less than `bound`: `(cost, vertex)`; the first such vertex on ties. Every
+/// vertex of the set draws one noise value.
+#[inline]
+fn cheapest_on_edge(
+    p: &Problem,
+    a: u32,
+    b: u32,
+    s: usize,
+    bound: i64,
+    noise: &mut Noise,
+) -> Option<(i64, u32)> {
+    let range = p.set_range(s);
+    let base = p.d(a, b);
+    let ra = &p.row(a)[range.clone()];
+    let cb = &p.col(b)[range.clone()];
+    let mut best = None;
+    let mut bound = bound;
+    for (x, (ca, cbv)) in ra.iter().zip(cb).enumerate() {
+        let c = ca + cbv - base + noise.next();
+        if c < bound {
+            bound = c;
+            best = Some((c, range.start as u32 + x as u32));
+        }
+    }
+    best
 }

@@ -47,145 +47,283 @@ pub(crate) fn search(
     start: Instant,
     time_limit_s: f64,
 ) -> SearchResult {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut ops = Operators::default();
-    let mut ls = LocalSearch::new(p.m);
-    ls.nn = settings.ls_nn;
-    ops.insert_nn = settings.insert_nn;
-    let out_of_time = |start: &Instant| start.elapsed().as_secs_f64() >= time_limit_s;
-
-    let mut removal_w = Adaptive::new(Removal::ALL.len());
-    let mut insert_w = Adaptive::new(InsertOrder::ALL.len());
-    let mut noise_w = Adaptive::new(NOISE_LEVELS.len());
-
-    let mut best: Option<(Vec<u32>, i64)> = None;
-    let mut iterations = 0u64;
-    let mut trials = 0usize;
-    let mut removed = Vec::new();
-    let mut succ = vec![0u32; p.m];
-    let mut pred = vec![0u32; p.m];
-    let mut dirty = Vec::new();
+    let mut search = Search::new(p, settings, seed, start, time_limit_s);
     let mut warm = warm;
-
     for trial in 0..settings.trials {
-        if trial > 0 && out_of_time(&start) {
+        if trial > 0 && search.out_of_time() {
             break;
         }
-        trials += 1;
-        // Starting tour.
-        let mut cur: Vec<u32> = if let Some(w) = warm.take() {
+        search.trials += 1;
+        let tour = search.starting_tour(trial, warm.take());
+        if !search.run_trial(tour) {
+            break;
+        }
+    }
+    let (tour, _) = search.best.expect("at least one trial");
+    SearchResult {
+        tour,
+        iterations: search.iterations,
+        trials: search.trials,
+    }
+}
+
+/// The operators drawn for one iteration (indices into [`Removal::ALL`],
+/// [`InsertOrder::ALL`] and the noise levels).
+struct Draw {
+    removal: usize,
+    insertion: usize,
+    noise: usize,
+}
+
+/// The current tour of a trial and its annealing schedule.
+struct Trial {
+    cur: Vec<u32>,
+    cur_cost: i64,
+    /// Cost of the trial's best tour.
+    best: i64,
+    since_improvement: u64,
+    /// Mean edge cost of the trial's initial tour: the unit of the
+    /// temperature, the noise and the cluster-optimisation window.
+    mean_edge: f64,
+    temp: f64,
+    cooling: f64,
+}
+
+/// The state of the whole search: generator, operators and their adaptive
+/// weights, the best tour so far, counters and scratch space.
+struct Search<'a> {
+    p: &'a Problem,
+    settings: &'a Settings,
+    start: Instant,
+    time_limit_s: f64,
+    rng: ChaCha8Rng,
+    ops: Operators,
+    ls: LocalSearch,
+    removal_w: Adaptive,
+    insert_w: Adaptive,
+    noise_w: Adaptive,
+    best: Option<(Vec<u32>, i64)>,
+    iterations: u64,
+    trials: usize,
+    removed: Vec<u32>,
+    /// Set successor and predecessor of every set in the current tour.
+    succ: Vec<u32>,
+    pred: Vec<u32>,
+    /// Sets whose tour neighbours a move changed.
+    dirty: Vec<u32>,
+}
+
+impl<'a> Search<'a> {
+    fn new(
+        p: &'a Problem,
+        settings: &'a Settings,
+        seed: u64,
+        start: Instant,
+        time_limit_s: f64,
+    ) -> Self {
+        let mut ops = Operators::default();
+        let mut ls = LocalSearch::new(p.m);
+        ls.nn = settings.ls_nn;
+        ops.insert_nn = settings.insert_nn;
+        Search {
+            p,
+            settings,
+            start,
+            time_limit_s,
+            rng: ChaCha8Rng::seed_from_u64(seed),
+            ops,
+            ls,
+            removal_w: Adaptive::new(Removal::ALL.len()),
+            insert_w: Adaptive::new(InsertOrder::ALL.len()),
+            noise_w: Adaptive::new(NOISE_LEVELS.len()),
+            best: None,
+            iterations: 0,
+            trials: 0,
+            removed: Vec::new(),
+            succ: vec![0u32; p.m],
+            pred: vec![0u32; p.m],
+            dirty: Vec::new(),
+        }
+    }
+
+    fn out_of_time(&self) -> bool {
+        self.start.elapsed().as_secs_f64() >= self.time_limit_s
+    }
+
+    /// The tour a trial starts from: the warm start, on odd trials the best
+    /// tour so far, else a random construction.
+    fn starting_tour(&mut self, trial: usize, warm: Option<Vec<u32>>) -> Vec<u32> {
+        if let Some(w) = warm {
             w
         } else if trial % 2 == 1
-            && let Some((b, _)) = &best
+            && let Some((b, _)) = &self.best
         {
             b.clone()
         } else {
+            let p = self.p;
             let mut pending: Vec<u32> = (0..p.m as u32).collect();
             let mut t = Vec::with_capacity(p.m);
-            ops.insert(p, &mut t, &mut pending, InsertOrder::Random, 0, &mut rng);
+            self.ops.insert(
+                p,
+                &mut t,
+                &mut pending,
+                InsertOrder::Random,
+                0,
+                &mut self.rng,
+            );
             t
-        };
-        let c0 = p.tour_cost(&cur);
-        let mut cur_cost = ls.run(p, &mut cur, c0, None, i64::MAX);
-        debug_assert_eq!(cur_cost, p.tour_cost(&cur));
-        let mut trial_best = cur_cost;
-        if best.as_ref().is_none_or(|b| cur_cost < b.1) {
-            best = Some((cur.clone(), cur_cost));
         }
+    }
+
+    /// Keeps `tour` as the best one when it is cheaper.
+    fn offer_best(&mut self, tour: &[u32], cost: i64) {
+        if self.best.as_ref().is_none_or(|b| cost < b.1) {
+            self.best = Some((tour.to_vec(), cost));
+        }
+    }
+
+    /// One trial from `tour`: local search, then the iterations. False when
+    /// the instance is too small to iterate on (the search ends).
+    fn run_trial(&mut self, mut tour: Vec<u32>) -> bool {
+        let (p, settings) = (self.p, self.settings);
+        let c0 = p.tour_cost(&tour);
+        let cost = self.ls.run(p, &mut tour, c0, None, i64::MAX);
+        debug_assert_eq!(cost, p.tour_cost(&tour));
+        self.offer_best(&tour, cost);
         if p.m < 4 {
-            break;
+            return false;
         }
-        let mean_edge = (cur_cost as f64 / p.m as f64).max(1.0);
+        let mean_edge = (cost as f64 / p.m as f64).max(1.0);
         let t0 = settings.temp_start * mean_edge;
         let t_end = t0 * settings.temp_end;
-        let cooling = (t_end / t0).powf(1.0 / settings.iterations.max(1) as f64);
-        let mut temp = t0;
-        let mut since_improvement = 0u64;
+        let mut trial = Trial {
+            cur: tour,
+            cur_cost: cost,
+            best: cost,
+            since_improvement: 0,
+            mean_edge,
+            temp: t0,
+            cooling: (t_end / t0).powf(1.0 / settings.iterations.max(1) as f64),
+        };
         let mut cand = Vec::with_capacity(p.m);
         for it in 0..settings.iterations {
-            if it % 16 == 0 && out_of_time(&start) {
+            if it % 16 == 0 && self.out_of_time() {
                 break;
             }
-            if since_improvement >= settings.stall {
+            if trial.since_improvement >= settings.stall {
                 break;
             }
-            iterations += 1;
-            since_improvement += 1;
-            temp *= cooling;
-
-            let ri = removal_w.pick(&mut rng);
-            let ii = insert_w.pick(&mut rng);
-            let ni = noise_w.pick(&mut rng);
-            let k = rng.random_range(1..=settings.max_remove);
-            let noise = (NOISE_LEVELS[ni] * mean_edge) as i64;
-
-            for (i, &v) in cur.iter().enumerate() {
-                let s = p.set_of(v);
-                succ[s] = p.set_of(cur[(i + 1) % cur.len()]) as u32;
-                pred[s] = p.set_of(cur[(i + cur.len() - 1) % cur.len()]) as u32;
-            }
-            cand.clear();
-            cand.extend_from_slice(&cur);
-            ops.remove(p, &mut cand, k, Removal::ALL[ri], &mut rng, &mut removed);
-            ops.insert(
-                p,
-                &mut cand,
-                &mut removed,
-                InsertOrder::ALL[ii],
-                noise,
-                &mut rng,
-            );
-            dirty.clear();
-            let l = cand.len();
-            for i in 0..l {
-                let s = p.set_of(cand[i]);
-                let nx = p.set_of(cand[(i + 1) % l]) as u32;
-                let pv = p.set_of(cand[(i + l - 1) % l]) as u32;
-                if succ[s] != nx || pred[s] != pv {
-                    dirty.push(s as u32);
-                }
-            }
-            let c = p.tour_cost(&cand);
-            let co_above = cur_cost
-                + (settings.co_window * temp) as i64
-                + (settings.co_slack * mean_edge) as i64;
-            let c = ls.run(p, &mut cand, c, Some(&dirty), co_above);
-            debug_assert_eq!(c, p.tour_cost(&cand));
-
-            let outcome = if c < trial_best {
-                trial_best = c;
-                since_improvement = 0;
-                Outcome::NewBest
-            } else if c < cur_cost {
-                Outcome::Improved
-            } else if c == cur_cost
-                || (c > cur_cost && rng.random::<f64>() < (-((c - cur_cost) as f64) / temp).exp())
-            {
-                Outcome::Accepted
-            } else {
-                Outcome::Rejected
-            };
+            self.iterations += 1;
+            trial.since_improvement += 1;
+            trial.temp *= trial.cooling;
+            let (draw, c) = self.destroy_and_repair(&trial, &mut cand);
+            let outcome = self.judge(&mut trial, c);
             if outcome != Outcome::Rejected {
-                std::mem::swap(&mut cur, &mut cand);
-                cur_cost = c;
-                if best.as_ref().is_none_or(|b| c < b.1) {
-                    best = Some((cur.clone(), c));
-                }
+                std::mem::swap(&mut trial.cur, &mut cand);
+                trial.cur_cost = c;
+                self.offer_best(&trial.cur, c);
             }
-            removal_w.record(ri, outcome);
-            insert_w.record(ii, outcome);
-            noise_w.record(ni, outcome);
-            if iterations.is_multiple_of(100) {
-                removal_w.update();
-                insert_w.update();
-                noise_w.update();
+            self.learn_weights(&draw, outcome);
+        }
+        true
+    }
+
+    /// Steps 1–3: draws the operators, destroys and repairs a copy of the
+    /// current tour into `cand` and improves it; returns the draw and the
+    /// candidate's cost.
+    fn destroy_and_repair(&mut self, trial: &Trial, cand: &mut Vec<u32>) -> (Draw, i64) {
+        let (p, settings) = (self.p, self.settings);
+        let draw = Draw {
+            removal: self.removal_w.pick(&mut self.rng),
+            insertion: self.insert_w.pick(&mut self.rng),
+            noise: self.noise_w.pick(&mut self.rng),
+        };
+        let k = self.rng.random_range(1..=settings.max_remove);
+        let noise = (NOISE_LEVELS[draw.noise] * trial.mean_edge) as i64;
+        self.record_neighbours(&trial.cur);
+        cand.clear();
+        cand.extend_from_slice(&trial.cur);
+        self.ops.remove(
+            p,
+            cand,
+            k,
+            Removal::ALL[draw.removal],
+            &mut self.rng,
+            &mut self.removed,
+        );
+        self.ops.insert(
+            p,
+            cand,
+            &mut self.removed,
+            InsertOrder::ALL[draw.insertion],
+            noise,
+            &mut self.rng,
+        );
+        self.mark_dirty(cand);
+        let c = p.tour_cost(cand);
+        let co_above = trial.cur_cost
+            + (settings.co_window * trial.temp) as i64
+            + (settings.co_slack * trial.mean_edge) as i64;
+        let c = self.ls.run(p, cand, c, Some(&self.dirty), co_above);
+        debug_assert_eq!(c, p.tour_cost(cand));
+        (draw, c)
+    }
+
+    /// Records the set neighbours of every set in `tour`.
+    fn record_neighbours(&mut self, tour: &[u32]) {
+        let p = self.p;
+        for (i, &v) in tour.iter().enumerate() {
+            let s = p.set_of(v);
+            self.succ[s] = p.set_of(tour[(i + 1) % tour.len()]) as u32;
+            self.pred[s] = p.set_of(tour[(i + tour.len() - 1) % tour.len()]) as u32;
+        }
+    }
+
+    /// Collects the sets of `cand` whose neighbours differ from the recorded
+    /// ones: where the local search must look.
+    fn mark_dirty(&mut self, cand: &[u32]) {
+        let p = self.p;
+        self.dirty.clear();
+        let l = cand.len();
+        for i in 0..l {
+            let s = p.set_of(cand[i]);
+            let nx = p.set_of(cand[(i + 1) % l]) as u32;
+            let pv = p.set_of(cand[(i + l - 1) % l]) as u32;
+            if self.succ[s] != nx || self.pred[s] != pv {
+                self.dirty.push(s as u32);
             }
         }
     }
-    let (tour, _) = best.expect("at least one trial");
-    SearchResult {
-        tour,
-        iterations,
-        trials,
+
+    /// Step 4: the outcome of a candidate of cost `c` against the current
+    /// tour (simulated-annealing acceptance).
+    fn judge(&mut self, trial: &mut Trial, c: i64) -> Outcome {
+        let cur_cost = trial.cur_cost;
+        if c < trial.best {
+            trial.best = c;
+            trial.since_improvement = 0;
+            Outcome::NewBest
+        } else if c < cur_cost {
+            Outcome::Improved
+        } else if c == cur_cost
+            || (c > cur_cost
+                && self.rng.random::<f64>() < (-((c - cur_cost) as f64) / trial.temp).exp())
+        {
+            Outcome::Accepted
+        } else {
+            Outcome::Rejected
+        }
+    }
+
+    /// Scores the drawn operators; every 100 iterations the weights move.
+    fn learn_weights(&mut self, draw: &Draw, outcome: Outcome) {
+        self.removal_w.record(draw.removal, outcome);
+        self.insert_w.record(draw.insertion, outcome);
+        self.noise_w.record(draw.noise, outcome);
+        if self.iterations.is_multiple_of(100) {
+            self.removal_w.update();
+            self.insert_w.update();
+            self.noise_w.update();
+        }
     }
 }

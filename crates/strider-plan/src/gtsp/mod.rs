@@ -13,6 +13,8 @@
 //! spirit of Karapetyan & Gutin ("Efficient local search algorithms for
 //! known and new neighborhoods for the GTSP", EJOR 219, 2012):
 //!
+//! * `instance`: the instance as callers give it ([`Instance`]: vertices,
+//!   sets, a dense [`CostMatrix`]), also what the TSPLIB reader produces.
 //! * `problem`: the instance in solver form (sets as contiguous vertex
 //!   ranges, row and column cost slices, set-to-set distances); open tours
 //!   become closed tours with free arcs into the start vertex.
@@ -34,6 +36,7 @@
 pub(crate) mod adaptive_powers;
 pub(crate) mod exact;
 pub(crate) mod insertion_deletion;
+mod instance;
 pub(crate) mod lns;
 pub(crate) mod parameter_defaults;
 pub(crate) mod problem;
@@ -44,9 +47,9 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+pub use instance::{CostMatrix, Instance, InstanceError};
 pub use parameter_defaults::{Mode, SolverParams};
 
-use crate::tsplib::Instance;
 use parameter_defaults::Settings;
 use problem::Problem;
 

@@ -12,7 +12,7 @@
 //!   from `s` in the original one;
 //! * `fixed_start = Some(s)`: the set of `s` is reduced to `{s}`.
 
-use crate::tsplib::Instance;
+use super::instance::Instance;
 
 pub(crate) struct Problem {
     /// Number of sets.

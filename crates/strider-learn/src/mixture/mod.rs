@@ -1,9 +1,9 @@
-//! The GP mixture model of `004` (Nardi & Stachniss, ICRA 2019, §IV): a place-dependent model
+//! The GP mixture model of Nardi19 (§IV): a place-dependent model
 //! of a phenomenon that affects navigation (vibration, energy per metre) learned from the
 //! robot's own observations, with the terrain-dependent modes found by mean-shift and the
 //! gating function learned by GP regressions on position and, optionally, aerial-image colour.
 //!
-//! * **Clustering** (`004` §IV-B, Alg. 1 line 6): 1-D mean-shift ([`mean_shift_1d`], Fukunaga
+//! * **Clustering** (Nardi19 §IV-B, Alg. 1 line 6): 1-D mean-shift ([`mean_shift_1d`], Fukunaga
 //!   & Hostetler) on the observed values gives the centroids C_1 … C_m. The bandwidth is given
 //!   or Silverman's rule ([`silverman_bandwidth`]); modes closer than one bandwidth merge, and
 //!   clusters with too few members are dropped (their points are shared out by Eq. 5).
@@ -23,20 +23,30 @@
 //!   times larger.
 //! * **Mixing** (Eq. 3): μ = Σ φ_i μ_i, σ² = Σ φ_i (σ_i² + (μ_i − μ)²).
 //!
-//! With `max_components = 1` the model is the single GP of `004` §III: one component, φ ≡ 1,
+//! With `max_components = 1` the model is the single GP of Nardi19 §III: one component, φ ≡ 1,
 //! Ψ = I, prior mean the mean of y — exactly [`Gp::fit`] with the fitted hyperparameters.
 //!
 //! Hyperparameters are fitted by [`fit_hyperparameters`] (bounded L-BFGS, decision 13) on at
 //! most [`MixtureParams::fit_points`] evenly spaced points of the training order (the fit is
 //! O(n³) per iteration), warm-started from the previous model's component with the nearest
 //! centroid when one is given. Everything is deterministic.
+//!
+//! Files: `clustering` (bandwidth, mean-shift, mode selection, Eq. 5), `components` (the fit of
+//! one component and its gate); this file holds the parameters, the model and its predictions.
+
+mod clustering;
+mod components;
+
+pub use clustering::{Mode, mean_shift_1d, responsibilities, silverman_bandwidth};
 
 use rayon::prelude::*;
 use thiserror::Error;
 
-use crate::gp::{
-    Gp, GpError, GpParams, HyperBounds, Kernel, KernelKind, Prediction, fit_hyperparameters,
-};
+#[cfg(doc)]
+use crate::gp::fit_hyperparameters;
+use crate::gp::{Gp, GpError, Prediction};
+use clustering::select_modes;
+use components::ComponentFit;
 
 /// Errors of the mixture model.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -61,7 +71,7 @@ pub enum MixtureError {
 /// Parameters of [`MixtureModel::fit`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct MixtureParams {
-    /// The most components; 1 is the single GP of `004` §III.
+    /// The most components; 1 is the single GP of Nardi19 §III.
     pub max_components: usize,
     /// Mean-shift bandwidth in units of y; `None`: Silverman's rule on the observations.
     pub bandwidth: Option<f64>,
@@ -216,150 +226,6 @@ fn check_finite(what: &str, v: &[f64]) -> Result<(), MixtureError> {
     }
 }
 
-/// Silverman's rule of thumb for a Gaussian kernel density, h = 1.06 · s · n^(−1/5) with s the
-/// sample standard deviation; for constant data a tiny positive bandwidth relative to the
-/// value (any bandwidth then gives one cluster).
-pub fn silverman_bandwidth(values: &[f64]) -> f64 {
-    let n = values.len().max(1) as f64;
-    let mean = values.iter().sum::<f64>() / n;
-    let var = values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n;
-    let h = 1.06 * var.sqrt() * n.powf(-0.2);
-    h.max(1e-9 * (1.0 + mean.abs()))
-}
-
-/// One mode found by [`mean_shift_1d`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Mode {
-    /// The centroid C_i (a local maximum of the kernel density).
-    pub centroid: f64,
-    /// Observations nearer to this centroid than to any other.
-    pub members: usize,
-}
-
-/// Mean-shift clustering of 1-D values (`004` §IV-B, Fukunaga & Hostetler) with a Gaussian
-/// kernel of bandwidth `h`: seeds are the means of the occupied bins of width h, each climbs to
-/// its density mode by x ← Σ w_j y_j / Σ w_j, w_j = exp(−(y_j − x)²/2h²); modes within h of a
-/// denser mode merge into it. Returns the modes in ascending order with their member counts
-/// (each value counted at its nearest mode). Empty input: no modes.
-pub fn mean_shift_1d(values: &[f64], h: f64) -> Result<Vec<Mode>, MixtureError> {
-    if !(h.is_finite() && h > 0.0) {
-        return Err(MixtureError::BadParameter(format!(
-            "mean-shift bandwidth {h} is not a positive finite number"
-        )));
-    }
-    check_finite("a clustered value", values)?;
-    if values.is_empty() {
-        return Ok(Vec::new());
-    }
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    // Bin seeding: one seed per occupied bin (the mean of its values).
-    let mut seeds = Vec::new();
-    let mut k = 0;
-    while k < sorted.len() {
-        let bin = (sorted[k] / h).floor();
-        let start = k;
-        while k < sorted.len() && (sorted[k] / h).floor() == bin {
-            k += 1;
-        }
-        seeds.push(sorted[start..k].iter().sum::<f64>() / (k - start) as f64);
-    }
-    let inv2h2 = 1.0 / (2.0 * h * h);
-    let density = |x: f64| -> (f64, f64) {
-        // Only values within 5h matter (exp(−12.5) ≈ 4e-6): a window of the sorted values.
-        let lo = sorted.partition_point(|v| *v < x - 5.0 * h);
-        let hi = sorted.partition_point(|v| *v <= x + 5.0 * h);
-        let (mut sw, mut swy) = (0.0, 0.0);
-        for &v in &sorted[lo..hi] {
-            let w = (-(v - x) * (v - x) * inv2h2).exp();
-            sw += w;
-            swy += w * v;
-        }
-        (sw, swy)
-    };
-    let mut modes: Vec<(f64, f64)> = seeds
-        .par_iter()
-        .map(|&s| {
-            let mut x = s;
-            for _ in 0..500 {
-                let (sw, swy) = density(x);
-                if sw <= 0.0 {
-                    break;
-                }
-                let nx = swy / sw;
-                let done = (nx - x).abs() < 1e-6 * h;
-                x = nx;
-                if done {
-                    break;
-                }
-            }
-            (x, density(x).0)
-        })
-        .collect();
-    // Densest first (ties: lower value), then suppress modes within h of a kept one.
-    modes.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.total_cmp(&b.0)));
-    let mut kept: Vec<f64> = Vec::new();
-    for (x, _) in modes {
-        if kept.iter().all(|c| (c - x).abs() >= h) {
-            kept.push(x);
-        }
-    }
-    kept.sort_by(f64::total_cmp);
-    let mut members = vec![0usize; kept.len()];
-    for &v in values {
-        members[nearest(&kept, v)] += 1;
-    }
-    Ok(kept
-        .into_iter()
-        .zip(members)
-        .map(|(centroid, members)| Mode { centroid, members })
-        .collect())
-}
-
-/// Index of the centroid nearest to `v` (ties: the lower index).
-fn nearest(centroids: &[f64], v: f64) -> usize {
-    let mut best = 0;
-    for (i, c) in centroids.iter().enumerate() {
-        if (c - v).abs() < (centroids[best] - v).abs() {
-            best = i;
-        }
-    }
-    best
-}
-
-/// Eq. 5 with decision 20: φ_i(y) = exp(−|y − C_i|/τ) / Σ_k exp(−|y − C_k|/τ) for every value
-/// (row-major n × m, rows sum to 1). Computed relative to the nearest centroid, so it never
-/// overflows or divides by zero.
-pub fn responsibilities(y: &[f64], centroids: &[f64], tau: f64) -> Result<Vec<f64>, MixtureError> {
-    if !(tau.is_finite() && tau > 0.0) {
-        return Err(MixtureError::BadParameter(format!(
-            "temperature {tau} is not a positive finite number"
-        )));
-    }
-    if centroids.is_empty() {
-        return Err(MixtureError::BadParameter("no centroids".into()));
-    }
-    check_finite("an observed value", y)?;
-    check_finite("a centroid", centroids)?;
-    let m = centroids.len();
-    let mut out = vec![0.0; y.len() * m];
-    for (row, &v) in out.chunks_exact_mut(m).zip(y) {
-        let dmin = centroids
-            .iter()
-            .map(|c| (v - c).abs())
-            .fold(f64::INFINITY, f64::min);
-        let mut s = 0.0;
-        for (r, c) in row.iter_mut().zip(centroids) {
-            *r = (-((v - c).abs() - dmin) / tau).exp();
-            s += *r;
-        }
-        for r in row.iter_mut() {
-            *r /= s;
-        }
-    }
-    Ok(out)
-}
-
 /// One component GP_i of the mixture.
 #[derive(Clone, Debug)]
 pub struct Component {
@@ -371,7 +237,7 @@ pub struct Component {
     pub gp: Gp,
 }
 
-/// A fitted GP mixture (`004` Eq. 3–6); see the module docs.
+/// A fitted GP mixture (Nardi19 Eq. 3–6); see the module docs.
 #[derive(Clone, Debug)]
 pub struct MixtureModel {
     components: Vec<Component>,
@@ -391,56 +257,6 @@ pub struct FieldPrediction {
     pub variance: Vec<f64>,
     /// The gating φ_i per query, row-major q × m.
     pub gates: Vec<f64>,
-}
-
-/// Evenly spaced indices into 0..n, at most `k` of them (all when n ≤ k).
-fn spaced(n: usize, k: usize) -> Vec<usize> {
-    if n <= k {
-        return (0..n).collect();
-    }
-    (0..k).map(|t| t * n / k).collect()
-}
-
-/// Gathers rows `idx` of a row-major matrix with `dim` columns.
-fn rows(data: &[f64], dim: usize, idx: &[usize]) -> Vec<f64> {
-    idx.iter()
-        .flat_map(|&i| data[i * dim..(i + 1) * dim].iter().copied())
-        .collect()
-}
-
-/// `init` moved into the box `bounds` (a warm start may come from other bounds).
-fn clamp_params(mut p: GpParams, b: &HyperBounds) -> GpParams {
-    for l in &mut p.kernel.lengthscales {
-        *l = l.clamp(b.lengthscale.0, b.lengthscale.1);
-    }
-    p.kernel.signal_variance = p
-        .kernel
-        .signal_variance
-        .clamp(b.signal_variance.0, b.signal_variance.1);
-    p.noise_variance = p
-        .noise_variance
-        .clamp(b.noise_variance.0, b.noise_variance.1);
-    p
-}
-
-/// Fits the hyperparameters on at most `fit_points` of the given points; with fewer than 3
-/// points there is nothing to fit and `init` is kept.
-fn fit_on(
-    dim: usize,
-    x: &[f64],
-    y: &[f64],
-    init: GpParams,
-    bounds: &HyperBounds,
-    fit_points: usize,
-) -> Result<GpParams, MixtureError> {
-    let init = clamp_params(init, bounds);
-    if y.len() < 3 {
-        return Ok(init);
-    }
-    let idx = spaced(y.len(), fit_points.max(3));
-    let xs = rows(x, dim, &idx);
-    let ys: Vec<f64> = idx.iter().map(|&i| y[i]).collect();
-    Ok(fit_hyperparameters(dim, &xs, &ys, init, bounds)?)
 }
 
 impl MixtureModel {
@@ -477,112 +293,18 @@ impl MixtureModel {
         } else {
             responsibilities(y, &centroids, temperature)?
         };
-        let value_bounds = HyperBounds {
-            lengthscale: params.value_lengthscale,
-            signal_variance: (
-                params.value_signal_variance.0 * vscale,
-                params.value_signal_variance.1 * vscale,
-            ),
-            noise_variance: (
-                params.value_noise_variance.0 * vscale,
-                params.value_noise_variance.1 * vscale,
-            ),
-            max_iterations: params.max_iterations,
-        };
-        let gate_bounds = HyperBounds {
-            lengthscale: params.gate_lengthscale,
-            signal_variance: params.gate_signal_variance,
-            noise_variance: params.gate_noise_variance,
-            max_iterations: params.max_iterations,
-        };
-        let warm_of = |c: f64| -> Option<usize> {
-            let w = warm?;
-            let cs: Vec<f64> = w.components.iter().map(|k| k.centroid).collect();
-            (!cs.is_empty()).then(|| nearest(&cs, c))
-        };
-        let owner: Vec<usize> = (0..n)
-            .map(|j| {
-                let row = &phi[j * m..(j + 1) * m];
-                (0..m).fold(0, |b, i| if row[i] > row[b] { i } else { b })
-            })
-            .collect();
-
         // Lines 9–10, one component (and its gate) per task.
+        let fit = ComponentFit {
+            train: *train,
+            params,
+            warm,
+            centroids: &centroids,
+            phi: &phi,
+            vscale,
+        };
         let fitted: Vec<(Component, Option<Gp>)> = (0..m)
             .into_par_iter()
-            .map(|i| -> Result<(Component, Option<Gp>), MixtureError> {
-                let w: Vec<f64> = (0..n).map(|j| phi[j * m + i]).collect();
-                let sw: f64 = w.iter().sum();
-                let prior_mean = w.iter().zip(y).map(|(a, b)| a * b).sum::<f64>() / sw;
-                let members: Vec<usize> = (0..n).filter(|&j| owner[j] == i).collect();
-                let prev = warm_of(centroids[i]).and_then(|k| warm.map(|w| (w, k)));
-                let init = match prev {
-                    Some((w, k)) => GpParams {
-                        prior_mean,
-                        ..w.components[k].gp.params().clone()
-                    },
-                    None => GpParams {
-                        kernel: Kernel {
-                            kind: KernelKind::SquaredExponential,
-                            lengthscales: vec![params.value_lengthscale_init],
-                            signal_variance: vscale,
-                        },
-                        noise_variance: 0.01 * vscale,
-                        prior_mean,
-                    },
-                };
-                let mx = rows(train.positions, 2, &members);
-                let my: Vec<f64> = members.iter().map(|&j| y[j]).collect();
-                let vp = fit_on(2, &mx, &my, init, &value_bounds, params.fit_points)?;
-                let psi: Vec<f64> = w.iter().map(|p| 1.0 / p.max(params.phi_min)).collect();
-                let gp = Gp::fit_heteroscedastic(2, vp, train.positions, y, &psi)?;
-                let gate = if m == 1 {
-                    None
-                } else {
-                    let lo = params.phi_min;
-                    let t: Vec<f64> = w
-                        .iter()
-                        .map(|p| {
-                            let p = p.clamp(lo, 1.0 - lo);
-                            (p / (1.0 - p)).ln()
-                        })
-                        .collect();
-                    let p0 = 1.0 / m as f64;
-                    let prior = (p0 / (1.0 - p0)).ln();
-                    let ginit = match prev.and_then(|(w, k)| w.gates.get(k)) {
-                        Some(g) if g.dim() == train.gate_dim => GpParams {
-                            prior_mean: prior,
-                            ..g.params().clone()
-                        },
-                        _ => GpParams {
-                            kernel: Kernel {
-                                kind: KernelKind::SquaredExponential,
-                                lengthscales: vec![1.0; train.gate_dim],
-                                signal_variance: 10.0,
-                            },
-                            noise_variance: 0.1,
-                            prior_mean: prior,
-                        },
-                    };
-                    let gp_params = fit_on(
-                        train.gate_dim,
-                        train.gate_features,
-                        &t,
-                        ginit,
-                        &gate_bounds,
-                        params.fit_points,
-                    )?;
-                    Some(Gp::fit(train.gate_dim, gp_params, train.gate_features, &t)?)
-                };
-                Ok((
-                    Component {
-                        centroid: centroids[i],
-                        members: members.len(),
-                        gp,
-                    },
-                    gate,
-                ))
-            })
+            .map(|i| fit.fit(i))
             .collect::<Result<_, _>>()?;
         let mut components = Vec::with_capacity(m);
         let mut gates = Vec::new();
@@ -719,104 +441,5 @@ impl MixtureModel {
             mean: out.mean[0],
             latent_variance: out.variance[0],
         })
-    }
-}
-
-/// Keeps the modes with enough members (at least `min_cluster_size` and
-/// `min_cluster_fraction` of the values), at most `max_components` of them (the most
-/// populous), re-counting members after each drop; the centroids in ascending order. At least
-/// one centroid always remains (the most populous mode).
-fn select_modes(modes: &[Mode], y: &[f64], params: &MixtureParams) -> Vec<f64> {
-    let n = y.len();
-    let need = params
-        .min_cluster_size
-        .max((params.min_cluster_fraction * n as f64).ceil() as usize);
-    let mut cs: Vec<f64> = modes.iter().map(|m| m.centroid).collect();
-    loop {
-        let mut count = vec![0usize; cs.len()];
-        for &v in y {
-            count[nearest(&cs, v)] += 1;
-        }
-        // Drop the smallest offender (ties: the higher centroid) and recount.
-        let too_many = cs.len() > params.max_components;
-        let worst = (0..cs.len()).min_by(|&a, &b| count[a].cmp(&count[b]).then(b.cmp(&a)));
-        match worst {
-            Some(w) if cs.len() > 1 && (count[w] < need || too_many) => {
-                cs.remove(w);
-            }
-            _ => break,
-        }
-    }
-    cs
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn mean_shift_finds_separated_modes() {
-        let mut y = Vec::new();
-        for k in 0..30 {
-            let e = (k as f64 * 0.37).sin() * 0.02;
-            y.push(0.5 + e);
-            y.push(2.5 + e);
-            if k % 3 == 0 {
-                y.push(4.0 + e);
-            }
-        }
-        let modes = mean_shift_1d(&y, 0.2).unwrap();
-        let cs: Vec<f64> = modes.iter().map(|m| m.centroid).collect();
-        assert_eq!(cs.len(), 3, "{cs:?}");
-        assert!((cs[0] - 0.5).abs() < 0.02 && (cs[1] - 2.5).abs() < 0.02);
-        assert!((cs[2] - 4.0).abs() < 0.02);
-        assert_eq!(modes.iter().map(|m| m.members).sum::<usize>(), y.len());
-        assert_eq!(modes[2].members, 10);
-    }
-
-    #[test]
-    fn mean_shift_rejects_bad_bandwidth_and_values() {
-        assert!(mean_shift_1d(&[1.0], 0.0).is_err());
-        assert!(mean_shift_1d(&[1.0], f64::NAN).is_err());
-        assert!(mean_shift_1d(&[1.0, f64::INFINITY], 1.0).is_err());
-        assert!(mean_shift_1d(&[], 1.0).unwrap().is_empty());
-    }
-
-    #[test]
-    fn responsibilities_follow_eq5_with_the_minus_sign() {
-        let phi = responsibilities(&[0.0, 1.0, 1e6], &[0.0, 1.0], 0.5).unwrap();
-        // y = 0: exp(0) vs exp(−2).
-        let e = (-2.0f64).exp();
-        assert!((phi[0] - 1.0 / (1.0 + e)).abs() < 1e-12);
-        assert!((phi[1] - e / (1.0 + e)).abs() < 1e-12);
-        assert!((phi[2] - phi[1]).abs() < 1e-12 && (phi[3] - phi[0]).abs() < 1e-12);
-        // Far away: finite and normalised, the nearer centroid wins.
-        assert!(phi[4].is_finite() && phi[5] > phi[4]);
-        assert!((phi[4] + phi[5] - 1.0).abs() < 1e-12);
-        assert!(responsibilities(&[0.0], &[], 1.0).is_err());
-        assert!(responsibilities(&[0.0], &[1.0], 0.0).is_err());
-    }
-
-    #[test]
-    fn small_clusters_are_dropped() {
-        let mut y = vec![1.0; 50];
-        y.extend([5.0, 5.0]);
-        let modes = mean_shift_1d(&y, 0.5).unwrap();
-        assert_eq!(modes.len(), 2);
-        let p = MixtureParams::default();
-        assert_eq!(select_modes(&modes, &y, &p), vec![1.0]);
-        let p = MixtureParams {
-            min_cluster_size: 1,
-            min_cluster_fraction: 0.0,
-            ..MixtureParams::default()
-        };
-        assert_eq!(select_modes(&modes, &y, &p).len(), 2);
-        let p = MixtureParams {
-            max_components: 1,
-            min_cluster_size: 1,
-            min_cluster_fraction: 0.0,
-            ..MixtureParams::default()
-        };
-        assert_eq!(select_modes(&modes, &y, &p), vec![1.0]);
     }
 }

@@ -1,0 +1,197 @@
+//! Terrain classes of one gait (Alg. 7, 8 and 10): IGNG adaptation and assignment, erosion to
+//! the learning assignment, the information gain per class at its median descriptor, pruning,
+//! and dilation to the planning assignment.
+
+use rustc_hash::FxHashMap as HashMap;
+use strider_map::descriptors::Raster;
+
+use super::{CostModelError, GaitCostModel};
+use crate::descriptor_field::DescriptorField;
+use crate::gp::differential_entropy;
+use crate::igng::ClassId;
+use crate::morphology::{self, TerrainCell};
+
+/// Terrain class with its information gain (Alg. 8).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClassInfo {
+    /// IGNG class id.
+    pub id: ClassId,
+    /// IGNG prototype of the class.
+    pub prototype: Vec<f64>,
+    /// ta(T) where the class is predicted: the component-wise median descriptor of its cells
+    /// on the eroded grid (see the module notes on Eq. 18).
+    pub median: Vec<f64>,
+    /// Cells assigned to the class on the eroded grid.
+    pub cells: usize,
+    /// Learning cells (cells of the class with a learning pair), |T ∩ L|.
+    pub learning_cells: usize,
+    /// Predicted cost at the median descriptor, clamped to [1, c_max].
+    pub cost: f64,
+    /// Latent variance at the median descriptor.
+    pub variance: f64,
+    /// H(σ̂²(ta(T))), Eq. 16.
+    pub entropy: f64,
+    /// I_C(T), Eq. 23.
+    pub information_gain: f64,
+}
+
+impl GaitCostModel {
+    /// Alg. 7: adapts the IGNG on a random batch, assigns every described cell its nearest
+    /// class T*(ν) (Eq. 17) and erodes that into the learning assignment T (Eq. 25).
+    pub(super) fn assign_classes(&mut self, desc: &DescriptorField) -> Result<(), CostModelError> {
+        self.cluster(desc)?;
+        let mut star = vec![TerrainCell::Unknown; self.rect.len()];
+        for (k, s) in star.iter_mut().enumerate() {
+            if let Some(x) = desc.get_index(k) {
+                *s = self
+                    .igng
+                    .classify(x)
+                    .map_or(TerrainCell::Eroded, TerrainCell::Class);
+            }
+        }
+        self.learn_class = morphology::erode(
+            &Raster {
+                rect: self.rect,
+                values: star,
+            },
+            self.params.erode_steps,
+        )
+        .map_err(|e| CostModelError::Params(e.to_string()))?
+        .values;
+        Ok(())
+    }
+
+    /// Alg. 7 lines 2–6: adapt the IGNG with a batch of n^IGNG descriptors drawn at random
+    /// (by the IGNG's seeded generator) from the described cells.
+    fn cluster(&mut self, desc: &DescriptorField) -> Result<(), CostModelError> {
+        let mut rows = Vec::with_capacity(desc.described_count() * self.dim);
+        for k in 0..desc.rect().len() {
+            if let Some(x) = desc.get_index(k) {
+                rows.extend_from_slice(x);
+            }
+        }
+        if rows.is_empty() {
+            return Ok(());
+        }
+        self.igng
+            .train(&rows, 1)
+            .map_err(|e| CostModelError::Params(e.to_string()))?;
+        Ok(())
+    }
+
+    /// Alg. 8: the classes represented on the eroded grid with their information gain I_C
+    /// (Eq. 23) against the threshold H_C^GT (Eq. 24, returned; `None` when no class has more
+    /// than m_T learning cells). Records each class's gain and cost for the novelty test and the
+    /// planning costs.
+    pub(super) fn rate_classes(&mut self, desc: &DescriptorField) -> (Vec<ClassInfo>, Option<f64>) {
+        let mut classes = self.class_table(desc);
+        let h_gt = classes
+            .iter()
+            .filter(|c| c.learning_cells > self.params.m_t)
+            .map(|c| c.entropy)
+            .fold(None, |a: Option<f64>, h| Some(a.map_or(h, |a| a.max(h))));
+        for c in &mut classes {
+            c.information_gain = match h_gt {
+                Some(h) => (c.entropy - h).max(0.0),
+                // Eq. 24 over an empty set is −∞, so every class is informative; its gain is
+                // reported relative to the noise entropy so it stays finite and ordered.
+                None => (c.entropy - differential_entropy(self.params.gp.noise_variance))
+                    .max(f64::MIN_POSITIVE),
+            };
+            self.class_gain.insert(c.id, c.information_gain);
+            self.class_cost.insert(c.id, c.cost);
+        }
+        (classes, h_gt)
+    }
+
+    /// One [`ClassInfo`] per class represented on the eroded grid, by ascending id, with the
+    /// prediction at its median descriptor (information gain filled in by the caller).
+    fn class_table(&self, desc: &DescriptorField) -> Vec<ClassInfo> {
+        // Per class: eroded cells, learning cells, and the descriptors of its cells.
+        let mut cells: HashMap<ClassId, (usize, usize, Vec<f64>)> = HashMap::default();
+        for (k, s) in self.learn_class.iter().enumerate() {
+            if let TerrainCell::Class(t) = *s {
+                let e = cells.entry(t).or_default();
+                e.0 += 1;
+                e.1 += self.learn_index.contains_key(&self.rect.cell(k)) as usize;
+                if let Some(x) = desc.get_index(k) {
+                    e.2.extend_from_slice(x);
+                }
+            }
+        }
+        let mut ids: Vec<ClassId> = cells.keys().copied().collect();
+        ids.sort_unstable();
+        let mut column = Vec::new();
+        ids.into_iter()
+            .filter_map(|id| {
+                let prototype = self.igng.prototype(id)?.to_vec();
+                let (n, l, rows) = &cells[&id];
+                // Never `None`: a cell gets a class only by classifying its descriptor.
+                let median = component_median(rows, self.dim, &mut column)?;
+                let (cost, variance) = self.predict(&median);
+                let (n, l) = (*n, *l);
+                Some(ClassInfo {
+                    id,
+                    prototype,
+                    median,
+                    cells: n,
+                    learning_cells: l,
+                    cost,
+                    variance,
+                    entropy: differential_entropy(variance),
+                    information_gain: 0.0,
+                })
+            })
+            .collect()
+    }
+
+    /// Alg. 9 line 9: removes the classes `pruned` from the IGNG (blacklisting them, decision
+    /// 17), zeroes their gain and relabels their cells as eroded.
+    pub(super) fn prune_classes(&mut self, pruned: &[ClassId]) -> Result<(), CostModelError> {
+        for &t in pruned {
+            self.igng
+                .prune(t)
+                .map_err(|e| CostModelError::Params(e.to_string()))?;
+            self.class_gain.insert(t, 0.0);
+            for s in &mut self.learn_class {
+                if *s == TerrainCell::Class(t) {
+                    *s = TerrainCell::Eroded;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Alg. 10: dilates the learning assignment into the planning assignment T̂ (Eq. 26).
+    pub(super) fn dilate_classes(&mut self) -> Result<(), CostModelError> {
+        self.plan_class = morphology::dilate(
+            &Raster {
+                rect: self.rect,
+                values: self.learn_class.clone(),
+            },
+            self.params.dilate_size,
+            self.params.dilate_steps,
+        )
+        .map_err(|e| CostModelError::Params(e.to_string()))?
+        .values;
+        Ok(())
+    }
+}
+
+/// Component-wise median of `rows` (row-major, `dim` values per row; the lower median for an
+/// even count); `None` without rows. `column` is scratch space.
+fn component_median(rows: &[f64], dim: usize, column: &mut Vec<f64>) -> Option<Vec<f64>> {
+    let n = rows.len().checked_div(dim)?;
+    if n == 0 {
+        return None;
+    }
+    Some(
+        (0..dim)
+            .map(|k| {
+                column.clear();
+                column.extend(rows.iter().skip(k).step_by(dim));
+                *column.select_nth_unstable_by((n - 1) / 2, f64::total_cmp).1
+            })
+            .collect(),
+    )
+}
