@@ -314,15 +314,11 @@ pub fn c1_features(map: &ElevationMap, c: Cell, params: &C1Params) -> C1Features
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::MapParams;
+    use crate::testing::lattice_map;
     use strider_core::Rgb8;
 
     fn map() -> ElevationMap {
-        ElevationMap::new(MapParams {
-            cell_size: 0.05,
-            tile_size: 16,
-            ..MapParams::default()
-        })
+        lattice_map(0.05, 16)
     }
 
     #[test]

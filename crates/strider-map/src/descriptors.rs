@@ -341,17 +341,13 @@ pub fn shape_lab_descriptor(map: &ElevationMap, c: Cell, delta_desc: f64) -> Opt
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::MapParams;
+    use crate::testing::lattice_map;
     use approx::assert_abs_diff_eq;
     use strider_core::Rgb8;
     use strider_core::color::COLOR_PROTOTYPES;
 
     fn map() -> ElevationMap {
-        ElevationMap::new(MapParams {
-            cell_size: 0.1,
-            tile_size: 4,
-            ..MapParams::default()
-        })
+        lattice_map(0.1, 4)
     }
 
     #[test]

@@ -175,7 +175,7 @@ pub fn frontier_goals(
 mod tests {
     use super::*;
     use crate::params::MapParams;
-    use strider_core::Rgb8;
+    use crate::testing::{block, flat};
 
     #[test]
     fn eq13_counts() {
@@ -197,12 +197,7 @@ mod tests {
             ..MapParams::default()
         };
         let mut m = ElevationMap::new(p);
-        for j in 0..3 {
-            for i in 0..40 {
-                m.set_cell(Cell::new(i, j), 0.0, 1e-4, Rgb8::default());
-            }
-        }
-        m.update_passability();
+        flat(&mut m, block(0, 0, 40, 3));
         let robot = Cell::new(0, 1);
         let reach = Reachability::compute(&m, robot);
         let f = frontier_cells(&m, &reach, robot, None);

@@ -36,6 +36,9 @@ pub mod reachability;
 pub mod rect;
 pub mod tiles;
 
+#[cfg(test)]
+mod testing;
+
 pub use clustering::{SpatialGoal, cluster_information};
 pub use frontiers::{FrontierGoal, frontier_goals};
 pub use fusion::FuseStats;

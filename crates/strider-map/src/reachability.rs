@@ -215,6 +215,7 @@ impl Reachability {
 mod tests {
     use super::*;
     use crate::params::MapParams;
+    use crate::testing::{block, known};
     use strider_core::Rgb8;
 
     #[test]
@@ -227,12 +228,9 @@ mod tests {
             ..MapParams::default()
         };
         let mut m = ElevationMap::new(p);
-        for j in 0..10 {
-            for i in 0..10 {
-                let z = if i == 5 { 1.0 } else { 0.0 };
-                m.set_cell(Cell::new(i, j), z, 1e-4, Rgb8::default());
-            }
-        }
+        known(&mut m, block(0, 0, 10, 10), |c| {
+            if c.i == 5 { 1.0 } else { 0.0 }
+        });
         m.update_passability();
         let r = Reachability::compute(&m, Cell::new(1, 1));
         // Columns 4..=6 are impassable (the wall and the cells beside it).

@@ -56,21 +56,11 @@ fn scan(origin: Point3, range: f32, d: f32) -> PointCloud {
                 } else {
                     [130, 90, 50]
                 };
-                points.push(ColoredPoint {
-                    x,
-                    y,
-                    z: height(x, y),
-                    rgb,
-                });
+                points.push(ColoredPoint::new(x, y, height(x, y), rgb));
             }
         }
     }
-    PointCloud {
-        stamp: 0.0,
-        sensor: 0,
-        origin,
-        points,
-    }
+    PointCloud::new(0.0, 0, origin, points)
 }
 
 #[test]

@@ -4,20 +4,11 @@ use approx::assert_abs_diff_eq;
 use strider_core::{Cell, CellRect, ColoredPoint, Point3, Rgb8};
 
 fn cloud(origin: Point3, pts: &[(f32, f32, f32)]) -> PointCloud {
-    PointCloud {
-        stamp: 0.0,
-        sensor: 0,
-        origin,
-        points: pts
-            .iter()
-            .map(|&(x, y, z)| ColoredPoint {
-                x,
-                y,
-                z,
-                rgb: [100, 150, 200],
-            })
-            .collect(),
-    }
+    let points = pts
+        .iter()
+        .map(|&(x, y, z)| ColoredPoint::new(x, y, z, [100, 150, 200]))
+        .collect();
+    PointCloud::new(0.0, 0, origin, points)
 }
 
 fn params() -> MapParams {
@@ -240,31 +231,19 @@ fn tied_scan(origin: Point3, seed: u64, n: usize) -> PointCloud {
             let z = match k % 7 {
                 // Face returns on the wall's edge at x = 1.5, noisy in x.
                 0 => {
-                    return ColoredPoint {
-                        x: 1.5 + (next() - 0.5) * 0.01,
-                        y,
-                        z: (next() * 11.0).floor() * 0.05,
-                        rgb: [k as u8, 7, 9],
-                    };
+                    let x = 1.5 + (next() - 0.5) * 0.01;
+                    let z = (next() * 11.0).floor() * 0.05;
+                    return ColoredPoint::new(x, y, z, [k as u8, 7, 9]);
                 }
                 _ if x >= 1.5 => 0.5,
                 _ => 0.0,
             } + (next() * 3.0).floor() * 0.002;
             let bad = k % 997 == 0;
-            ColoredPoint {
-                x: if bad { f32::NAN } else { x },
-                y,
-                z,
-                rgb: [(k % 251) as u8, (k / 251 % 251) as u8, 40],
-            }
+            let rgb = [(k % 251) as u8, (k / 251 % 251) as u8, 40];
+            ColoredPoint::new(if bad { f32::NAN } else { x }, y, z, rgb)
         })
         .collect();
-    PointCloud {
-        stamp: 0.0,
-        sensor: 0,
-        origin,
-        points,
-    }
+    PointCloud::new(0.0, 0, origin, points)
 }
 
 #[test]
@@ -317,17 +296,8 @@ fn fusion_does_not_depend_on_the_number_of_chunks() {
 #[test]
 fn running_mean_and_first_seen_colour() {
     let o = Point3::new(0.0, 0.0, 1.0);
-    let mk = |rgb: [u8; 3]| PointCloud {
-        stamp: 0.0,
-        sensor: 0,
-        origin: o,
-        points: vec![ColoredPoint {
-            x: 0.05,
-            y: 0.05,
-            z: 0.0,
-            rgb,
-        }],
-    };
+    let mk =
+        |rgb: [u8; 3]| PointCloud::new(0.0, 0, o, vec![ColoredPoint::new(0.05, 0.05, 0.0, rgb)]);
     let mut m = ElevationMap::new(params());
     m.fuse(&mk([100, 0, 0]));
     m.fuse(&mk([200, 50, 0]));

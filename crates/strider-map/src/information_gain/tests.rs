@@ -2,6 +2,7 @@ use super::delta::{crosses_below, touches_sight_line};
 use super::*;
 use crate::observability::{ray_clear, ray_clear_in};
 use crate::params::MapParams;
+use crate::testing::{block, flat};
 use approx::assert_abs_diff_eq;
 use strider_core::grid::disc_offsets;
 use strider_core::{Point2, Rgb8};
@@ -14,13 +15,6 @@ fn params() -> MapParams {
         sensor_height: 0.3,
         ..MapParams::default()
     }
-}
-
-fn flat(m: &mut ElevationMap, cells: impl IntoIterator<Item = Cell>) {
-    for c in cells {
-        m.set_cell(c, 0.0, 1e-4, Rgb8::default());
-    }
-    m.update_passability();
 }
 
 #[test]
@@ -62,7 +56,7 @@ fn model_information_on_a_strip() {
     // holds 13 cells: 5 known (the strip), 8 unknown. Unknown (0, ±1), (±1, ±1): neighbours
     // include 3 known strip cells → k = 5, I = 6/9; (0, ±2): k = 8 → 1; and (±1, ±1) → k = 5.
     let mut m = ElevationMap::new(params());
-    flat(&mut m, (-5..=5).map(|i| Cell::new(i, 0)));
+    flat(&mut m, block(-5, 0, 11, 1));
     let expected = 2.0 * (6.0 / 9.0 * 3.0) + 2.0 * 1.0;
     assert_abs_diff_eq!(
         model_information(&m, Cell::new(0, 0), None),
@@ -85,10 +79,7 @@ fn model_information_on_a_strip() {
 fn information_gain_on_candidates() {
     let mut m = ElevationMap::new(params());
     // Known 11 × 11 square: interior cells see no unknown cell within 2 cells.
-    flat(
-        &mut m,
-        (-5..=5).flat_map(|j| (-5..=5).map(move |i| Cell::new(i, j))),
-    );
+    flat(&mut m, block(-5, -5, 11, 11));
     let reach = Reachability::compute(&m, Cell::new(0, 0));
     let g = information_gain(&m, &reach, None);
     // Candidates: every cell except the border ring (no known neighbour on all sides is
@@ -139,10 +130,7 @@ fn cache_reuses_unchanged_candidates_and_follows_changes() {
         r_sensor: 0.3,
         ..params()
     });
-    flat(
-        &mut m,
-        (-10..=10).flat_map(|j| (-10..=10).map(move |i| Cell::new(i, j))),
-    );
+    flat(&mut m, block(-10, -10, 21, 21));
     let reach = Reachability::compute(&m, Cell::new(0, 0));
     let mut cache = GainCache::new(0.01);
     let first = cache.compute(&m, &reach, None);
@@ -226,7 +214,7 @@ proptest::proptest! {
         ),
     ) {
         let mut m = ElevationMap::new(MapParams { r_sensor: 0.4, ..params() });
-        flat(&mut m, (-2..=2).flat_map(|j| (-2..=2).map(move |i| Cell::new(i, j))));
+        flat(&mut m, block(-2, -2, 5, 5));
         let mut cache = GainCache::new(0.0);
         for edits in steps {
             let (cached, fresh) = edit_and_evaluate(&mut m, &mut cache, &edits);
