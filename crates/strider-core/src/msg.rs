@@ -79,12 +79,12 @@ pub struct PoseStamped {
 pub struct Proprioception {
     /// Time, seconds.
     pub stamp: f64,
-    /// Body roll angle, radians (`000` roll-variance cost).
+    /// Body roll angle, radians (Prágr19 roll-variance cost).
     pub roll: f64,
-    /// Electrical power draw, watts (C1 cost of transport, `003` energy).
+    /// Electrical power draw, watts (Prágr18 cost of transport, MartinCorke energy).
     pub power_w: f64,
-    /// Vertical-acceleration RMS, m/s² (`004` vibration cost).
+    /// Vertical-acceleration RMS, m/s² (Nardi19 vibration cost).
     pub vibration: f64,
-    /// Force on the front bumper, newtons (thesis C4); 0 when not touching anything.
+    /// Force on the front bumper, newtons (Prágr23); 0 when not touching anything.
     pub bumper_force: f64,
 }

@@ -1,4 +1,4 @@
-//! `001` Alg. 3, clusterEntropyRepresentatives: spatial goals from the cells with non-zero
+//! Prágr22 Alg. 3, clusterEntropyRepresentatives: spatial goals from the cells with non-zero
 //! information gain (decision 5).
 //!
 //! Greedy, in the fixed (row-major) order of the cells: a cell joins the cluster whose centre
@@ -15,7 +15,7 @@
 //! visited (observed on `courtyard-large`, where a 10 m sensor makes most of the known area
 //! informative). Centre distance bounds each cluster to a c_radius ball, so the goals cover
 //! the informative area at c_radius spacing: "a limited number of spatial entropy
-//! representants" (`001` §4.2) rather than one.
+//! representants" (Prágr22 §4.2) rather than one.
 
 use crate::information_gain::InfoGain;
 use crate::map::ElevationMap;

@@ -1,4 +1,4 @@
-//! observable(ν, ν') of `001` Eq. 11 by ray casting in the elevation map (decision 5).
+//! observable(ν, ν') of Prágr22 Eq. 11 by ray casting in the elevation map (decision 5).
 //!
 //! The sensor sits `h_sensor` above the centre of ν at ν's elevation; the target point is the
 //! centre of ν' at its elevation (at ν's elevation when ν' is unknown: the ground is assumed

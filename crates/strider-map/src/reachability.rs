@@ -1,5 +1,5 @@
 //! Cells reachable from the robot: an 8-connected flood fill over admissible cells (decision 4;
-//! `000` "reachable cells", `001` candidates of Eq. 11).
+//! Prágr19 "reachable cells", Prágr22 candidates of Eq. 11).
 
 use crate::map::ElevationMap;
 use std::collections::VecDeque;
@@ -42,7 +42,7 @@ impl Reachability {
     }
 
     /// The cells reachable from `start` over the cells of a caller's admissibility raster
-    /// (`admissible`, row-major over `rect`) instead of the map's own layer: thesis C4 Eq. 4
+    /// (`admissible`, row-major over `rect`) instead of the map's own layer: Prágr23 Eq. 4
     /// admits apparent obstacles that were learnt to be traversable. The start cell is included
     /// whenever it is observed, as in [`Reachability::compute`]. A raster of the wrong size
     /// gives an empty set.

@@ -1,9 +1,9 @@
-//! Passability from roughness (`001` Eq. 7–9, thesis C4 Eq. 5–6, `000` §IV-B) and
+//! Passability from roughness (Prágr22 Eq. 7–9, Prágr23 Eq. 5–6, Prágr19 §IV-B) and
 //! configuration-space inflation (decision 4).
 //!
 //! ρ(ν) = max over *known* 8-neighbours ν' of |elevation(ν) − elevation(ν')| (Eq. 7–8; unknown
 //! neighbours are ignored, decision 4); π(ν) = 0 when ρ(ν) > ρ_obstacle, else 1 (Eq. 9). The
-//! robot's centre may only occupy cells with no impassable cell within r_robot (`000`
+//! robot's centre may only occupy cells with no impassable cell within r_robot (Prágr19
 //! δ_impassable).
 //!
 //! The dense-raster functions here are the single definition of the rule: the tiled map applies
@@ -11,7 +11,7 @@
 //! [`dense_passability`] on its elevation layer.
 //!
 //! [`ElevationMap::update_passability`] maintains both layers of the tiled map incrementally
-//! (`001` Alg. 2 line 3, `recomputePassability`): π only for the cells whose elevation changed
+//! (Prágr22 Alg. 2 line 3, `recomputePassability`): π only for the cells whose elevation changed
 //! since the last call and their 8-neighbours, admissibility only within r_robot of a cell whose
 //! π changed. Both run the dense functions above on a small raster read from the tiles.
 
