@@ -1,6 +1,7 @@
 //! Face bounds (see "Face bounds" in the module docs of `fusion`): how high a kept return on a
 //! sensor-facing cell edge must be to count as a lower bound of a wall's top.
 
+use super::scratch::refill;
 use crate::map::ElevationMap;
 use strider_core::{Cell, CellRect};
 
@@ -14,8 +15,7 @@ impl ElevationMap {
     pub(super) fn face_bound_floors(&mut self, rect: CellRect) {
         let gate = self.params.mahalanobis_gate as f32;
         let s = &mut self.scratch;
-        s.bound_floor.clear();
-        s.bound_floor.resize(rect.len(), f32::INFINITY);
+        refill(&mut s.bound_floor, rect.len(), f32::INFINITY);
         for (k, &bits) in s.kept.facing.iter().enumerate() {
             if bits == 0 || s.kept.z[k] == f32::NEG_INFINITY {
                 continue;

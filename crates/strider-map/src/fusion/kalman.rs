@@ -155,7 +155,7 @@ impl ElevationMap {
                     continue;
                 };
                 if !ov.cells().any(|c| {
-                    s.kept.z[rk(c)] > f32::NEG_INFINITY || s.carve_z[rk(c)] < f32::INFINITY
+                    s.kept.z[rk(c)] > f32::NEG_INFINITY || s.columns.carve_z[rk(c)] < f32::INFINITY
                 }) {
                     continue;
                 }
@@ -171,7 +171,7 @@ impl ElevationMap {
                 for c in ov.cells() {
                     let k = rk(c);
                     let t = ((c.j - tj * ts) * ts + (c.i - ti * ts)) as usize;
-                    if tile.carve(t, s.carve_z[k], rule.gate) {
+                    if tile.carve(t, s.columns.carve_z[k], rule.gate) {
                         stats.cells_carved += 1;
                         changed = Some(rect::include(changed, c));
                     }

@@ -5,7 +5,7 @@
 
 use super::carving::{CARVE_EVERY, carve_beam};
 use super::frame::{ScanFrame, ScanGrid};
-use super::scratch::{ChunkScratch, FusionScratch, Kept, Located};
+use super::scratch::{ChunkScratch, Columns, FusionScratch, Kept, Located, refill};
 use super::stats::FuseStats;
 use rayon::prelude::*;
 use strider_core::ColoredPoint;
@@ -73,7 +73,7 @@ pub(super) fn bounding_box(
 }
 
 /// Pass 1: the highest return per cell and ray carving over the last stretch of each beam,
-/// merged into `s.max_z` and `s.carve_z`; locates every return. `None` when there is no
+/// merged into `s.columns`; locates every return. `None` when there is no
 /// chunk.
 pub(super) fn highest_and_carving(
     s: &mut FusionScratch,
@@ -83,18 +83,14 @@ pub(super) fn highest_and_carving(
 ) -> Option<()> {
     let n = grid.rect.len();
     let cl = chunks.len;
-    s.located.clear();
-    s.located.resize(chunks.points.len(), Located::default());
+    refill(&mut s.located, chunks.points.len(), Located::default());
     s.chunks[..chunks.count]
         .par_iter_mut()
         .zip(chunks.points.par_chunks(cl))
         .zip(s.located.par_chunks_mut(cl))
         .enumerate()
         .for_each(|(chunk, ((c, pts), located))| {
-            c.max_z.clear();
-            c.max_z.resize(n, f32::NEG_INFINITY);
-            c.carve_z.clear();
-            c.carve_z.resize(n, f32::INFINITY);
+            c.columns.reset(n);
             for (j, (p, l)) in pts.iter().zip(located.iter_mut()).enumerate() {
                 let Ok(r2) = frame.classify(p) else {
                     l.ci = u32::MAX;
@@ -104,24 +100,17 @@ pub(super) fn highest_and_carving(
                     var: frame.variance(r2),
                     ..grid.locate(p, frame.d)
                 };
-                let m = &mut c.max_z[grid.index(l.ci as usize, l.cj as usize)];
+                let m = &mut c.columns.max_z[grid.index(l.ci as usize, l.cj as usize)];
                 *m = m.max(p.z);
                 if (chunk * cl + j).is_multiple_of(CARVE_EVERY) {
-                    carve_beam(&mut c.carve_z, p, r2, l, frame, grid);
+                    carve_beam(&mut c.columns.carve_z, p, r2, l, frame, grid);
                 }
             }
         });
-    // Merge: per-cell maximum and minimum, independent of the order.
     let (first, rest) = s.chunks[..chunks.count].split_first_mut()?;
-    std::mem::swap(&mut s.max_z, &mut first.max_z);
-    std::mem::swap(&mut s.carve_z, &mut first.carve_z);
+    std::mem::swap(&mut s.columns, &mut first.columns);
     for c in rest.iter() {
-        for (a, b) in s.max_z.iter_mut().zip(&c.max_z) {
-            *a = a.max(*b);
-        }
-        for (a, b) in s.carve_z.iter_mut().zip(&c.carve_z) {
-            *a = a.min(*b);
-        }
+        s.columns.merge(&c.columns);
     }
     Some(())
 }
@@ -140,8 +129,7 @@ pub(super) fn keep_returns(
     let n = grid.rect.len();
     let cl = chunks.len;
     let rule = KeepRule {
-        max_z: &s.max_z,
-        carve_z: &s.carve_z,
+        columns: &s.columns,
         frame,
         grid,
     };
@@ -172,10 +160,9 @@ pub(super) fn keep_returns(
     Some(())
 }
 
-/// What pass 2 decides a return by: this scan's merged maximum and carving bound per cell.
+/// What pass 2 decides a return by: this scan's merged column bounds.
 struct KeepRule<'a> {
-    max_z: &'a [f32],
-    carve_z: &'a [f32],
+    columns: &'a Columns,
     frame: &'a ScanFrame,
     grid: &'a ScanGrid,
 }
@@ -190,7 +177,7 @@ impl KeepRule<'_> {
         let k = self.grid.index(ci, cj);
         let sigma3 = 3.0 * var.sqrt();
         let edge = sigma3 * self.frame.inv_d; // 3σ in cell units
-        let below = |nk: usize| p.z < self.max_z[nk] - sigma3;
+        let below = |nk: usize| p.z < self.columns.max_z[nk] - sigma3;
         let face = (u < edge && ci > 0 && below(k - 1))
             || (u > 1.0 - edge && ci + 1 < w && below(k + 1))
             || (v < edge && cj > 0 && below(k - w))
@@ -199,7 +186,7 @@ impl KeepRule<'_> {
             st.face_points += 1;
             return;
         }
-        if p.z > self.carve_z[k] + sigma3 {
+        if p.z > self.columns.carve_z[k] + sigma3 {
             // A beam of this scan crossed this cell's column below this return.
             st.carved_points += 1;
             return;

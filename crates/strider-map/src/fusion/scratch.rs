@@ -6,22 +6,47 @@ use super::stats::FuseStats;
 /// Per-scan scratch rasters over the scan's bounding box, reused between scans.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct FusionScratch {
-    /// Highest return per cell (pass 1), −∞ where none.
-    pub(super) max_z: Vec<f32>,
+    /// The merged column bounds per cell (pass 1).
+    pub(super) columns: Columns,
     /// Per return, where pass 1 located it (reused by pass 2); `ci == u32::MAX` when skipped.
     pub(super) located: Vec<Located>,
     /// The private rasters of each chunk of returns (see "Parallel passes" in the module docs
     /// of `fusion`); chunk 0's are swapped with the merged ones above.
     pub(super) chunks: Vec<ChunkScratch>,
-    /// Carving bound per cell: the lowest height at which a beam of this scan crossed the cell's
-    /// column (pass 1), +∞ where none.
-    pub(super) carve_z: Vec<f32>,
     /// The kept returns per cell (pass 2).
     pub(super) kept: Kept,
     /// For a kept return on a facing edge: the facing neighbour's map elevation plus the gate
     /// times its standard deviation, the height the cell must exceed for the return to be a face
     /// bound; +∞ when the neighbour is unobserved.
     pub(super) bound_floor: Vec<f32>,
+}
+
+/// What pass 1 learns of each cell's column.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Columns {
+    /// The highest return, −∞ where none.
+    pub(super) max_z: Vec<f32>,
+    /// The carving bound: the lowest height at which a beam of this scan crossed the column,
+    /// +∞ where none.
+    pub(super) carve_z: Vec<f32>,
+}
+
+impl Columns {
+    /// Empties the rasters for `n` cells.
+    pub(super) fn reset(&mut self, n: usize) {
+        refill(&mut self.max_z, n, f32::NEG_INFINITY);
+        refill(&mut self.carve_z, n, f32::INFINITY);
+    }
+
+    /// Merges `other` in: per-cell maximum and minimum, independent of the order.
+    pub(super) fn merge(&mut self, other: &Columns) {
+        for (a, b) in self.max_z.iter_mut().zip(&other.max_z) {
+            *a = a.max(*b);
+        }
+        for (a, b) in self.carve_z.iter_mut().zip(&other.carve_z) {
+            *a = a.min(*b);
+        }
+    }
 }
 
 /// The highest return kept per cell (pass 2), with what the Kalman update needs of it.
@@ -41,14 +66,10 @@ pub(super) struct Kept {
 impl Kept {
     /// Empties the rasters for `n` cells.
     pub(super) fn reset(&mut self, n: usize) {
-        self.z.clear();
-        self.z.resize(n, f32::NEG_INFINITY);
-        self.var.clear();
-        self.var.resize(n, 0.0);
-        self.rgb.clear();
-        self.rgb.resize(n, [0; 3]);
-        self.facing.clear();
-        self.facing.resize(n, 0);
+        refill(&mut self.z, n, f32::NEG_INFINITY);
+        refill(&mut self.var, n, 0.0);
+        refill(&mut self.rgb, n, [0; 3]);
+        refill(&mut self.facing, n, 0);
     }
 
     /// Takes over `other`'s return in every cell where it is strictly higher.
@@ -68,8 +89,7 @@ impl Kept {
 /// meaning as in [`FusionScratch`]), its bounding box and its counts.
 #[derive(Clone, Debug, Default)]
 pub(super) struct ChunkScratch {
-    pub(super) max_z: Vec<f32>,
-    pub(super) carve_z: Vec<f32>,
+    pub(super) columns: Columns,
     pub(super) kept: Kept,
     /// Bounding box of the chunk's usable returns: (x0, y0, x1, y1).
     pub(super) bbox: (f32, f32, f32, f32),
@@ -85,4 +105,10 @@ pub(super) struct Located {
     pub(super) u: f32,
     pub(super) v: f32,
     pub(super) var: f32,
+}
+
+/// Makes `v` hold `n` copies of `value`, reusing its allocation.
+pub(super) fn refill<T: Clone>(v: &mut Vec<T>, n: usize, value: T) {
+    v.clear();
+    v.resize(n, value);
 }

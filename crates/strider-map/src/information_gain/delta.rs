@@ -2,10 +2,10 @@
 //! changed since it was computed.
 
 use super::bits::{get_bit, put_bit};
-use super::disc::{DiscEntry, DiscTable, HALF_DIAG, NEAR_SHADOW, shadow_interval};
-use super::view::{GainView, Scratch, Sight};
-use crate::observability::box_interval;
-use strider_core::{Cell, Point2};
+use super::disc::{DiscEntry, DiscTable, HALF_DIAG, NEAR_SHADOW};
+use super::sight::Sight;
+use super::view::{GainView, Scratch};
+use strider_core::Cell;
 
 /// The previous state of a [`GainView`] during an incremental update: its I_cell values and
 /// the cells that changed since, with their (new, old) elevations (NaN for unknown).
@@ -64,8 +64,8 @@ impl GainView {
     ///
     /// Two safe per-cell tests (conservative, with margins against rounding) spare most of
     /// (b)'s casts: a target whose sight line the changed cell does not reach in either view
-    /// ([`touches_sight_line`]) is left to the other changed cells, and one whose line it now
-    /// crosses below its top ([`crosses_below`]) is blocked without a cast. On
+    /// (`touches_sight_line`) is left to the other changed cells, and one whose line it now
+    /// crosses below its top (`crosses_below`) is blocked without a cast. On
     /// `courtyard-large` they cut the delta updates' time roughly in half.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn delta_count(
@@ -109,7 +109,7 @@ impl Delta<'_> {
     /// The offset of `x` from the candidate when a change there can matter.
     #[inline]
     fn offset(&self, x: Cell) -> Option<(i32, i32)> {
-        let c = self.sight.c;
+        let c = self.sight.cell();
         let (dx, dy) = (x.i - c.i, x.j - c.j);
         (dx.abs() <= self.reach && dy.abs() <= self.reach).then_some((dx, dy))
     }
@@ -117,9 +117,8 @@ impl Delta<'_> {
     /// The changed cell `x` with (new, old) elevations `(zn, zo)` as a blocker, if it rises
     /// above the candidate in either view and lies in the disc.
     fn blocker(&self, x: Cell, zn: f32, zo: f32) -> Option<Blocker> {
-        let Sight { ef, zs, zt, .. } = self.sight;
-        // Elevations above ef only (NaN, unknown, compares false).
-        let (e_new, e_old) = ((zn > ef).then_some(zn), (zo > ef).then_some(zo));
+        // Elevations above the candidate only.
+        let (e_new, e_old) = (self.sight.blocking(zn), self.sight.blocking(zo));
         if e_new.is_none() && e_old.is_none() {
             return None;
         }
@@ -127,7 +126,7 @@ impl Delta<'_> {
         let kx = self.disc.entry_of(dx, dy)?;
         let ex = self.disc.entries[kx];
         let z = e_new.into_iter().chain(e_old).reduce(f32::max)?;
-        let (start, end) = shadow_interval(ex.r, z, zs, zt);
+        let (start, end) = self.sight.shadow(ex.r, z);
         Some(Blocker {
             kx,
             ex,
@@ -135,7 +134,7 @@ impl Delta<'_> {
             e_new,
             start,
             end,
-            hides: e_new.is_some_and(|z| z as f64 > zs) && ex.inner.0 <= ex.inner.1,
+            hides: e_new.is_some_and(|z| self.sight.above_sensor(z)) && ex.inner.0 <= ex.inner.1,
             far: ex.r + HALF_DIAG,
             only_hides: e_old.is_none(),
         })
@@ -175,9 +174,8 @@ impl Delta<'_> {
         if scratch.seen[k] == scratch.stamp || (b.only_hides && !get_bit(vis, k)) {
             return 0;
         }
-        let Sight { c, zs, zt, .. } = self.sight;
         let e = self.disc.entries[k];
-        let t = c.offset(e.di, e.dj);
+        let t = self.sight.target(&e);
         let Some(idx) = self.view.rect.index(t) else {
             return 0;
         };
@@ -191,16 +189,16 @@ impl Delta<'_> {
         // The interval test is coarse: skip the targets whose sight line x does not reach in
         // either view (another changed cell on the same line recasts it; if none does, the
         // line is unchanged).
-        if !touches_sight_line(ex.di, ex.dj, e.di, e.dj, b.z as f64, zs, zt) {
+        if !self.sight.touched_by(&ex, &e, b.z) {
             return 0;
         }
         scratch.seen[k] = scratch.stamp;
         let hidden = b.hides && e.r >= b.far && (ex.inner.0..=ex.inner.1).contains(&e.bin);
         let now = g1 > 0
             && !hidden
-            && !b.e_new.is_some_and(|zn| {
-                k != b.kx && crosses_below(ex.di, ex.dj, e.di, e.dj, zn as f64, zs, zt)
-            })
+            && !b
+                .e_new
+                .is_some_and(|zn| k != b.kx && self.sight.blocked_by(&ex, &e, zn))
             && self.view.clear(&self.sight, t);
         put_bit(vis, k, now);
         let gained = if now { g1 as i64 } else { 0 };
@@ -224,7 +222,7 @@ impl Delta<'_> {
                     continue;
                 }
                 let e = self.disc.entries[k];
-                let t = self.sight.c.offset(e.di, e.dj);
+                let t = self.sight.target(&e);
                 let Some(idx) = self.view.rect.index(t) else {
                     continue;
                 };
@@ -246,62 +244,4 @@ impl Delta<'_> {
         }
         delta
     }
-}
-
-/// Whether a cell of height `z` at offset `(xi, xj)` from the sensor cell can take part in
-/// blocking the sight line to the target at offset `(ti, tj)` (sensor at `zs`, target at
-/// `zt`, both above cell centres): the closed cell meets the segment where the segment is
-/// below `z`. This is the condition under which [`ray_clear_in`] looks at a cell (as a
-/// traversed cell or as the other side of a corner crossing), widened by 1e-6 cell and 1e-9 m
-/// against rounding, so a `false` is safe: the cell cannot change that sight line.
-///
-/// [`ray_clear_in`]: crate::observability::ray_clear_in
-#[inline]
-pub(super) fn touches_sight_line(
-    xi: i32,
-    xj: i32,
-    ti: i32,
-    tj: i32,
-    z: f64,
-    zs: f64,
-    zt: f64,
-) -> bool {
-    let (t0, t1) = cell_span(xi, xj, ti, tj, 1e-6);
-    t0 <= t1 && z > lowest_on(t0, t1, zs, zt) - 1e-9
-}
-
-/// Whether a cell of height `z` at offset `(xi, xj)` from the sensor cell certainly blocks the
-/// sight line to the target at offset `(ti, tj)` (see [`touches_sight_line`]): the segment
-/// crosses the cell's interior over more than 1e-6 of its length and dips more than 1e-9 m
-/// below `z` there. [`ray_clear_in`] then reports the line blocked, whatever the rounding of
-/// its traversal. The cell must be neither the sensor's nor the target's.
-///
-/// [`ray_clear_in`]: crate::observability::ray_clear_in
-#[inline]
-pub(super) fn crosses_below(xi: i32, xj: i32, ti: i32, tj: i32, z: f64, zs: f64, zt: f64) -> bool {
-    let (t0, t1) = cell_span(xi, xj, ti, tj, 0.0);
-    t1 - t0 > 1e-6 && z > lowest_on(t0, t1, zs, zt) + 1e-9
-}
-
-/// The parameter interval `[t0, t1]` ⊂ [0, 1] of the segment from the sensor cell's centre
-/// (0, 0) to the target's centre `(ti, tj)` (cell units) inside the cell at `(xi, xj)` grown by
-/// `grow` cells on every side; `t0 > t1` when they do not meet.
-#[inline]
-fn cell_span(xi: i32, xj: i32, ti: i32, tj: i32, grow: f64) -> (f64, f64) {
-    let h = 0.5 + grow;
-    let (x, y) = (xi as f64, xj as f64);
-    box_interval(
-        Point2::new(0.0, 0.0),
-        ti as f64,
-        tj as f64,
-        Point2::new(x - h, y - h),
-        Point2::new(x + h, y + h),
-    )
-}
-
-/// The segment's lowest height over `[t0, t1]` (heights `zs` at 0 and `zt` at 1): linear, so
-/// at an end of the interval.
-#[inline]
-fn lowest_on(t0: f64, t1: f64, zs: f64, zt: f64) -> f64 {
-    zs + (zt - zs) * if zt < zs { t1 } else { t0 }
 }

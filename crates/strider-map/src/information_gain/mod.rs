@@ -15,6 +15,7 @@
 //!
 //! * `candidates`: the cells Eq. 11 is evaluated on and the result, [`InfoGain`];
 //! * `disc`: the sensor disc with each offset's direction bins and shadow geometry;
+//! * `sight`: the sight lines from one candidate and the tests of a cell against them;
 //! * `view`: the dense view (Eq. 10) and Eq. 11 afresh at one candidate;
 //! * `delta`: Eq. 11 updated from the cells that changed;
 //! * `cache`: [`GainCache`], which keeps Eq. 11 up to date between calls.
@@ -24,6 +25,7 @@ mod cache;
 mod candidates;
 mod delta;
 mod disc;
+mod sight;
 mod view;
 
 pub use cache::GainCache;

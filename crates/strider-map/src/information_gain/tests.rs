@@ -1,4 +1,4 @@
-use super::delta::{crosses_below, touches_sight_line};
+use super::sight::{crosses_below, touches_sight_line};
 use super::*;
 use crate::observability::{ray_clear, ray_clear_in};
 use crate::params::MapParams;

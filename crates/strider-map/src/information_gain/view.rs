@@ -2,9 +2,9 @@
 //! candidate.
 
 use super::bits::set_bit;
-use super::disc::{ANGLE_BINS, DiscTable, HALF_DIAG, shadow_interval};
+use super::disc::{ANGLE_BINS, DiscTable, HALF_DIAG};
+use super::sight::Sight;
 use crate::map::ElevationMap;
-use crate::observability::{ray_clear_in, target_height};
 use crate::rect::{WorldRect, in_bounds};
 use strider_core::grid::NEIGHBOURS8;
 use strider_core::{Cell, CellRect};
@@ -48,17 +48,6 @@ pub(super) struct GainView {
     pub(super) elev: Vec<f32>,
     pub(super) icount: Vec<u8>,
     sat: Vec<u32>,
-}
-
-/// The sight lines from one candidate: its cell, its elevation, the sensor height above it
-/// and the height of its targets.
-#[derive(Clone, Copy)]
-pub(super) struct Sight {
-    pub(super) c: Cell,
-    pub(super) ef: f32,
-    pub(super) zs: f64,
-    pub(super) zt: f64,
-    pub(super) d: f64,
 }
 
 /// Per direction bin, what the raised cells of a disc can do to its targets (see
@@ -153,20 +142,13 @@ impl GainView {
     /// `None` when `c` is unknown.
     #[inline]
     pub(super) fn sight(&self, c: Cell, h: f64, d: f64) -> Option<Sight> {
-        let ef = self.elevation(c)?;
-        Some(Sight {
-            c,
-            ef,
-            zs: ef as f64 + h,
-            zt: target_height(None, ef),
-            d,
-        })
+        Some(Sight::new(c, self.elevation(c)?, h, d))
     }
 
     /// Whether the sight line from `s` to `t` is clear in this view.
     #[inline]
     pub(super) fn clear(&self, s: &Sight, t: Cell) -> bool {
-        ray_clear_in(&self.elev, self.rect, s.c, t, s.zs, s.zt, s.d)
+        s.clear_in(&self.elev, self.rect, t)
     }
 
     /// Number of unknown cells in the square of half-size `n` around `c` (clipped to the view).
@@ -250,7 +232,7 @@ impl GainView {
         let mut sum = 0u32;
         for &(k, g) in targets {
             let e = disc.entries[k as usize];
-            if self.clear(sight, sight.c.offset(e.di, e.dj)) {
+            if self.clear(sight, sight.target(&e)) {
                 sum += g as u32;
                 if let Some(v) = vis.as_deref_mut() {
                     set_bit(v, k as usize);
@@ -269,20 +251,18 @@ impl GainView {
     /// a ray meets a cell only within its angular extent, and a slightly raised cell
     /// shadows only the targets just behind it).
     fn mark_shadows(&self, sight: &Sight, disc: &DiscTable, mask: &mut ShadowMask) {
-        let Sight { c, ef, zs, zt, .. } = *sight;
         for e in &disc.entries[..] {
             if e.is_centre() {
                 continue;
             }
-            let Some(idx) = self.rect.index(c.offset(e.di, e.dj)) else {
+            let Some(idx) = self.rect.index(sight.target(e)) else {
                 continue;
             };
-            let z = self.elev[idx];
             // Unknown (NaN) cells are transparent; cells not above ef cannot block.
-            if z.is_nan() || z <= ef {
+            let Some(z) = sight.blocking(self.elev[idx]) else {
                 continue;
-            }
-            let (start, end) = shadow_interval(e.r, z, zs, zt);
+            };
+            let (start, end) = sight.shadow(e.r, z);
             for &(a, b) in e.spans() {
                 for m in &mut mask.shadow[a as usize..=b as usize] {
                     m.0 = m.0.min(start);
@@ -292,7 +272,7 @@ impl GainView {
             // A cell higher than the sensor certainly hides the targets beyond it whose sight
             // line crosses its interior (inner bins): the line never rises above the sensor,
             // so it runs below the cell's top there.
-            if z as f64 > zs && e.inner.0 <= e.inner.1 {
+            if sight.above_sensor(z) && e.inner.0 <= e.inner.1 {
                 let far = e.r + HALF_DIAG;
                 for m in &mut mask.hidden_from[e.inner.0 as usize..=e.inner.1 as usize] {
                     *m = m.min(far);
@@ -321,7 +301,7 @@ impl GainView {
             if maybe_blocked && e.r >= mask.hidden_from[e.bin as usize] {
                 continue;
             }
-            if !maybe_blocked || self.clear(sight, sight.c.offset(e.di, e.dj)) {
+            if !maybe_blocked || self.clear(sight, sight.target(&e)) {
                 sum += g as u32;
                 if let Some(v) = vis.as_deref_mut() {
                     set_bit(v, k as usize);
