@@ -1,8 +1,8 @@
 //! Colour: 8-bit sRGB, CIELAB (D65) and the colour prototypes of the histogram descriptors.
 //!
-//! `001` §4.2 shrinks each cell colour to one of nine prototypes (its Fig. 5B/E is not in the
+//! Prágr22 §4.2 shrinks each cell colour to one of nine prototypes (its Fig. 5B/E is not in the
 //! text; decision 6 fixes them). A colour maps to the prototype nearest in CIELAB (ΔE76). The
-//! thesis C4 8-bin histogram uses the first eight prototypes.
+//! Prágr23 8-bin histogram uses the first eight prototypes.
 
 use serde::{Deserialize, Serialize};
 

@@ -1,7 +1,7 @@
 //! The global cell lattice and the shape iterators shared by every grid algorithm.
 //!
 //! Cells are addressed by integer coordinates on one global lattice anchored at the world origin:
-//! cell `(i, j)` covers `[i·d, (i+1)·d) × [j·d, (j+1)·d)` for cell size `d` (`001` §3, d_ν). Every
+//! cell `(i, j)` covers `[i·d, (i+1)·d) × [j·d, (j+1)·d)` for cell size `d` (Prágr22 §3, d_ν). Every
 //! grid in Strider (the robot's map, the simulator's world, cost layers) uses this lattice, so a
 //! cell index means the same place everywhere and no resampling is needed between layers of the
 //! same resolution.
@@ -47,7 +47,7 @@ impl Cell {
     pub const fn offset(self, di: i32, dj: i32) -> Cell {
         Cell::new(self.i + di, self.j + dj)
     }
-    /// The 8-neighbourhood 8nb(ν) (`001` Eq. 1), in a fixed order.
+    /// The 8-neighbourhood 8nb(ν) (Prágr22 Eq. 1), in a fixed order.
     pub fn neighbours8(self) -> impl Iterator<Item = Cell> {
         NEIGHBOURS8.iter().map(move |&(di, dj)| self.offset(di, dj))
     }
@@ -124,7 +124,7 @@ impl CellRect {
 }
 
 /// Cell offsets of a disc of radius `r` (same unit as `d`), centre included: every cell whose
-/// centre lies within `r` of the centre cell's centre. Used for footprints δ(r, ν) (`001` Eq. 12)
+/// centre lies within `r` of the centre cell's centre. Used for footprints δ(r, ν) (Prágr22 Eq. 12)
 /// and descriptor neighbourhoods. Sorted by distance, then row, then column.
 pub fn disc_offsets(r: f64, d: f64) -> Vec<(i32, i32)> {
     if !(r.is_finite() && d.is_finite() && d > 0.0 && r >= 0.0) {

@@ -3,9 +3,9 @@
 //! The vocabulary every other Strider crate speaks, and nothing else:
 //!
 //! * [`geom`]: points and poses in the world frame (x east, y north, z up, metres, radians).
-//! * [`grid`]: the global cell lattice (`cell = floor(x / d_ν)`, `001` §3) and the shape
+//! * [`grid`]: the global cell lattice (`cell = floor(x / d_ν)`, Prágr22 §3) and the shape
 //!   iterators every algorithm shares (footprint disc, cell ray), in the spirit of grid_map.
-//! * [`color`]: sRGB → CIELAB, ΔE76 and the nine colour prototypes of decision 6 (`001` §4.2,
+//! * [`color`]: sRGB → CIELAB, ΔE76 and the nine colour prototypes of decision 6 (Prágr22 §4.2,
 //!   Fig. 5E).
 //! * [`msg`] and [`interface`]: the messages a robot produces (point clouds, poses,
 //!   proprioception) and the sensor/actuator interface. The simulator implements it; a real robot

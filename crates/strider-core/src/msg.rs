@@ -25,6 +25,13 @@ pub struct ColoredPoint {
     pub rgb: [u8; 3],
 }
 
+impl ColoredPoint {
+    /// A return at `(x, y, z)` of colour `rgb`.
+    pub const fn new(x: f32, y: f32, z: f32, rgb: [u8; 3]) -> Self {
+        Self { x, y, z, rgb }
+    }
+}
+
 /// One scan of an RGB-D (or omnidirectional) sensor in the world frame.
 #[derive(Clone, Debug, Default)]
 pub struct PointCloud {
@@ -36,6 +43,18 @@ pub struct PointCloud {
     pub origin: Point3,
     /// The returns. May contain non-finite values from a faulty source; consumers skip them.
     pub points: Vec<ColoredPoint>,
+}
+
+impl PointCloud {
+    /// The scan of sensor `sensor` taken at `stamp` from `origin`.
+    pub fn new(stamp: f64, sensor: u8, origin: Point3, points: Vec<ColoredPoint>) -> Self {
+        Self {
+            stamp,
+            sensor,
+            origin,
+            points,
+        }
+    }
 }
 
 /// A 6-DOF robot body pose with its time stamp (the 20 Hz pose stream).
@@ -60,12 +79,12 @@ pub struct PoseStamped {
 pub struct Proprioception {
     /// Time, seconds.
     pub stamp: f64,
-    /// Body roll angle, radians (`000` roll-variance cost).
+    /// Body roll angle, radians (Prágr19 roll-variance cost).
     pub roll: f64,
-    /// Electrical power draw, watts (C1 cost of transport, `003` energy).
+    /// Electrical power draw, watts (Prágr18 cost of transport, MartinCorke energy).
     pub power_w: f64,
-    /// Vertical-acceleration RMS, m/s² (`004` vibration cost).
+    /// Vertical-acceleration RMS, m/s² (Nardi19 vibration cost).
     pub vibration: f64,
-    /// Force on the front bumper, newtons (thesis C4); 0 when not touching anything.
+    /// Force on the front bumper, newtons (Prágr23); 0 when not touching anything.
     pub bumper_force: f64,
 }

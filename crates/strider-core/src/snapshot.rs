@@ -49,6 +49,17 @@ pub struct GoalSet {
     pub sites: Vec<Point3>,
 }
 
+impl GoalSet {
+    /// The goal set `name` of kind `kind` at `sites`.
+    pub fn new(name: impl Into<String>, kind: GoalKind, sites: Vec<Point3>) -> Self {
+        Self {
+            name: name.into(),
+            kind,
+            sites,
+        }
+    }
+}
+
 /// What a learned cost measures, with what a judge needs to compute it from a terrain table.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
@@ -85,6 +96,31 @@ pub struct ModelLayer {
     pub measured: Vec<f32>,
 }
 
+impl ModelLayer {
+    /// A model's layers over `cells` cells with nothing to say yet (NaN everywhere), for the
+    /// model to fill in cell by cell.
+    pub fn unknown(
+        name: impl Into<String>,
+        quantity: Quantity,
+        gait: Option<GaitId>,
+        cells: usize,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            quantity,
+            gait,
+            cost: vec![f32::NAN; cells],
+            variance: vec![f32::NAN; cells],
+            measured: vec![f32::NAN; cells],
+        }
+    }
+
+    /// Whether each of its layers has one value per cell of a rectangle of `cells` cells.
+    pub fn fits(&self, cells: usize) -> bool {
+        self.cost.len() == cells && self.variance.len() == cells && self.measured.len() == cells
+    }
+}
+
 /// The map and model layers over one rectangle of cells, row-major.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Layers {
@@ -102,6 +138,15 @@ pub struct Layers {
     pub passability: Vec<u8>,
     /// The learned models.
     pub models: Vec<ModelLayer>,
+}
+
+impl Layers {
+    /// Drops the model layers whose size does not fit [`Layers::rect`] (a strategy's mistake),
+    /// so that a reader may index every layer by cell.
+    pub fn drop_misfit_models(&mut self) {
+        let n = self.rect.len();
+        self.models.retain(|m| m.fits(n));
+    }
 }
 
 /// A cost measured in one cell.
@@ -138,4 +183,80 @@ pub struct Snapshot {
     pub layers: Option<Layers>,
     /// The costs measured so far (when the layers were asked for).
     pub measured: Vec<MeasuredCost>,
+}
+
+impl Snapshot {
+    /// The state at robot time `time_s` of the strategy `strategy` on a map of `cell_size`, with
+    /// nothing in it yet.
+    pub fn new(time_s: f64, strategy: impl Into<String>, cell_size: f64) -> Self {
+        Self {
+            time_s,
+            strategy: strategy.into(),
+            cell_size,
+            robot: None,
+            gait: None,
+            path: Vec::new(),
+            goals: Vec::new(),
+            tour: Vec::new(),
+            layers: None,
+            measured: Vec::new(),
+        }
+    }
+
+    /// Adds the goal set `name` of kind `kind` at `sites`.
+    pub fn push_goals(&mut self, name: impl Into<String>, kind: GoalKind, sites: Vec<Point3>) {
+        self.goals.push(GoalSet::new(name, kind, sites));
+    }
+
+    /// Adds a cost measured at `at` for model `model`.
+    pub fn push_measured(&mut self, at: Point3, cost: f64, model: usize) {
+        self.measured.push(MeasuredCost { at, cost, model });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::Cell;
+
+    #[test]
+    fn unknown_model_layers_fit_and_misfits_are_dropped() {
+        let rect = CellRect::new(Cell::new(-1, 2), 3, 2);
+        let fits = ModelLayer::unknown("fast", Quantity::RollVariance, Some(GaitId(1)), 6);
+        assert!(fits.fits(rect.len()));
+        assert!(fits.cost.iter().chain(&fits.variance).all(|v| v.is_nan()));
+        let mut short = fits.clone();
+        short.measured.pop();
+        let mut layers = Layers {
+            rect,
+            elevation: vec![0.0; 6],
+            elevation_variance: vec![0.0; 6],
+            color: vec![[0; 3]; 6],
+            observed: vec![true; 6],
+            passability: vec![1; 6],
+            models: vec![fits, short],
+        };
+        layers.drop_misfit_models();
+        // (NaN layers never compare equal: compare sizes.)
+        assert_eq!(layers.models.len(), 1);
+        assert_eq!(layers.models[0].measured.len(), 6);
+    }
+
+    #[test]
+    fn goals_and_measured_costs_are_added() {
+        let mut snap = Snapshot::new(1.0, "s", 0.1);
+        let at = Point3::new(1.0, 2.0, 0.5);
+        snap.push_goals("cost_goals_fast", GoalKind::Cost { model: 0 }, vec![at]);
+        snap.push_measured(at, 2.5, 0);
+        assert_eq!(snap.goals[0].name, "cost_goals_fast");
+        assert_eq!(snap.goals[0].sites, vec![at]);
+        assert_eq!(
+            snap.measured,
+            vec![MeasuredCost {
+                at,
+                cost: 2.5,
+                model: 0
+            }]
+        );
+    }
 }

@@ -1,8 +1,9 @@
 //! The ROS 2 wire format: OMG CDR (XCDR1) with its 4-byte encapsulation header, as rmw
 //! implementations put it into MCAP's `cdr` message encoding.
 //!
-//! Encoding and decoding go through the [`cdr`] crate with our own serde structs
-//! ([`crate::ros2`]). Three things are done by hand, for safety and speed on untrusted input:
+//! Encoding and decoding go through the [`cdr`] crate with our own serde structs (the message
+//! types of the `ros2` module, which builds on this one). Three things are done by hand, for
+//! safety and speed on untrusted input:
 //!
 //! * **Strings** ([`RosString`]) are decoded as a `sequence<uint8>` (the same bytes on the wire:
 //!   a `u32` length that counts the terminating NUL, then the bytes). `cdr` 0.2's own string

@@ -219,7 +219,7 @@ pub struct MissionConfig {
     /// Map parameters (without `scenario`).
     #[serde(default)]
     pub map: Option<MapParams>,
-    /// The `001` Tbl. 3 values by the names of a scenario's `[strategy]` table.
+    /// The Prágr22 Tbl. 3 values by the names of a scenario's `[strategy]` table.
     #[serde(default)]
     pub parameters: toml::Table,
 }

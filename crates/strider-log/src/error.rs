@@ -106,3 +106,32 @@ impl LogError {
         }
     }
 }
+
+/// A message of a log, by topic and index on the topic: what an error about its content says.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MessageAt<'a> {
+    /// The topic.
+    pub(crate) topic: &'a str,
+    /// Index of the message on its topic (0-based).
+    pub(crate) index: usize,
+}
+
+impl MessageAt<'_> {
+    /// The message could not be decoded.
+    pub(crate) fn decode(self, source: CdrError) -> LogError {
+        LogError::Decode {
+            topic: self.topic.into(),
+            index: self.index,
+            source,
+        }
+    }
+
+    /// The message decoded but its content is unusable.
+    pub(crate) fn content(self, reason: String) -> LogError {
+        LogError::Content {
+            topic: self.topic.into(),
+            index: self.index,
+            reason,
+        }
+    }
+}

@@ -93,13 +93,7 @@ impl Topics {
     }
 }
 
-/// Motion-state bits of the motion topic.
-pub mod motion_bits {
-    /// The commanded path is done (or none is commanded).
-    pub const IDLE: u8 = 1;
-    /// The robot refused the next cell of its path.
-    pub const BLOCKED: u8 = 2;
-}
+pub use crate::ros2::motion_bits;
 
 /// What to record.
 #[derive(Clone, Debug)]

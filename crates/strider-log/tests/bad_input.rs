@@ -141,6 +141,11 @@ impl SensorSink for Collect {
     }
 }
 
+/// The error of opening the log at `p` with `cfg`.
+fn open_error(p: &Path, cfg: &ReplayConfig) -> String {
+    LogReplay::open(p, cfg, &gaits()).err().unwrap().to_string()
+}
+
 fn drain(r: &mut LogReplay) -> Result<Collect, LogError> {
     let mut c = Collect::default();
     let limit = r.time_limit_s(0.05);
@@ -171,20 +176,14 @@ fn missing_topics_are_named_with_the_topics_present() {
     let p = dir().join("simple-missing.mcap");
     simple_log(&p);
     let cfg = config("[[clouds]]\ntopic = \"/camera/points\"\norigin_frame = \"cam\"");
-    let e = LogReplay::open(&p, &cfg, &gaits())
-        .err()
-        .unwrap()
-        .to_string();
+    let e = open_error(&p, &cfg);
     assert!(e.contains("no message on topic /camera/points"), "{e}");
     assert!(
         e.contains("/robot/sensor_0/points"),
         "lists what is there: {e}"
     );
     let cfg = config("[pose]\ntopic = \"/odom\"");
-    let e = LogReplay::open(&p, &cfg, &gaits())
-        .err()
-        .unwrap()
-        .to_string();
+    let e = open_error(&p, &cfg);
     assert!(e.contains("/odom") && e.contains("the pose"), "{e}");
 }
 
@@ -223,10 +222,7 @@ fn foreign_encodings_and_schemas_are_refused() {
         .unwrap();
         w.finish().unwrap();
     }
-    let e = LogReplay::open(&p, &config(""), &gaits())
-        .err()
-        .unwrap()
-        .to_string();
+    let e = open_error(&p, &config(""));
     assert!(
         e.contains("/robot/odom") && e.contains("\"json\""),
         "encoding named: {e}"
@@ -237,10 +233,7 @@ fn foreign_encodings_and_schemas_are_refused() {
     w.write_ros2("/robot/odom", MsgType::String, 0, &StringMsg::default())
         .unwrap();
     w.finish().unwrap();
-    let e = LogReplay::open(&p, &config(""), &gaits())
-        .err()
-        .unwrap()
-        .to_string();
+    let e = open_error(&p, &config(""));
     assert!(
         e.contains("std_msgs/msg/String") && e.contains("nav_msgs/msg/Odometry"),
         "{e}"
@@ -249,18 +242,7 @@ fn foreign_encodings_and_schemas_are_refused() {
 
 fn uncoloured_log(path: &Path) {
     use strider_log::ros2::{PointCloud2Head, PointField, datatype};
-    #[derive(serde::Serialize)]
-    struct Out<'a> {
-        head: &'a PointCloud2Head,
-        data: strider_log::cdr::Bytes<'a>,
-        is_dense: bool,
-    }
-    let f = |name: &str, offset| PointField {
-        name: name.into(),
-        offset,
-        datatype: datatype::FLOAT32,
-        count: 1,
-    };
+    let f = |name: &str, offset| PointField::new(name, offset, datatype::FLOAT32);
     let head = PointCloud2Head {
         header: header(0, "map"),
         height: 1,
@@ -274,12 +256,7 @@ fn uncoloured_log(path: &Path) {
     for v in [0.5f32, 0.5, 0.0, f32::NAN, 0.5, 0.0] {
         data.extend_from_slice(&v.to_le_bytes());
     }
-    let bytes = strider_log::cdr::encode(&Out {
-        head: &head,
-        data: strider_log::cdr::Bytes(&data),
-        is_dense: false,
-    })
-    .unwrap();
+    let bytes = strider_log::ros2::encode_cloud_raw(&head, &data, false).unwrap();
     let mut w = McapWriter::create(path).unwrap();
     w.write_ros2(
         "/robot/odom",
@@ -349,10 +326,7 @@ fn truncated_and_corrupted_files_are_errors_not_panics() {
             let _ = drain(&mut r);
         }
     }
-    let e = LogReplay::open(&dir().join("absent.mcap"), &config(""), &gaits())
-        .err()
-        .unwrap()
-        .to_string();
+    let e = open_error(&dir().join("absent.mcap"), &config(""));
     assert!(e.contains("absent.mcap"), "{e}");
 }
 
@@ -363,10 +337,7 @@ fn truncation_names_the_position() {
     let bytes = std::fs::read(&p).unwrap();
     let q = dir().join("half.mcap");
     std::fs::write(&q, &bytes[..bytes.len() / 2]).unwrap();
-    let e = LogReplay::open(&q, &config(""), &gaits())
-        .err()
-        .unwrap()
-        .to_string();
+    let e = open_error(&q, &config(""));
     assert!(
         e.contains("half.mcap") && e.contains("near byte") && e.contains("messages"),
         "{e}"
@@ -413,10 +384,7 @@ fn unknown_gaits_bogus_stamps_and_bad_rotations() {
     let id = Quaternion::IDENTITY;
     let p = dir().join("gait.mcap");
     log_with(&p, &[(0, odom(0, "map", 0.5, id))], Some("gallop"));
-    let e = LogReplay::open(&p, &config(""), &gaits())
-        .err()
-        .unwrap()
-        .to_string();
+    let e = open_error(&p, &config(""));
     assert!(
         e.contains("/robot/gait") && e.contains("gallop") && e.contains("fast, tall"),
         "{e}"
@@ -433,10 +401,7 @@ fn unknown_gaits_bogus_stamps_and_bad_rotations() {
         ],
         None,
     );
-    let e = LogReplay::open(&p, &config(""), &gaits())
-        .err()
-        .unwrap()
-        .to_string();
+    let e = open_error(&p, &config(""));
     assert!(e.contains("inconsistent"), "{e}");
 
     // A zero quaternion: the pose is skipped and counted.

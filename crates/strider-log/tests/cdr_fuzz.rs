@@ -15,10 +15,10 @@ use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::{Config, TestRunner};
 use strider_core::msg::ColoredPoint;
-use strider_log::cdr::{self, Bytes, RosString};
+use strider_log::cdr::{self, RosString};
 use strider_log::ros2::{
     self, HeaderPrefix, MissingRgb, Odometry, PointCloud2Head, PointField, Quaternion, StringMsg,
-    TfMessage, Time, Transform, TransformStamped, UInt8Msg, Vector3, datatype,
+    TfMessage, Time, Transform, TransformStamped, UInt8Msg, Vector3, datatype, encode_cloud_raw,
 };
 
 /// Runs every decoder on `bytes`; only a panic (or an abort) fails.
@@ -238,30 +238,14 @@ fn corpus_hostile_lengths() {
 }
 
 fn cloud_with(head: PointCloud2Head, data: &[u8]) -> Vec<u8> {
-    #[derive(serde::Serialize)]
-    struct Out<'a> {
-        head: &'a PointCloud2Head,
-        data: Bytes<'a>,
-        is_dense: bool,
-    }
-    cdr::encode(&Out {
-        head: &head,
-        data: Bytes(data),
-        is_dense: true,
-    })
-    .unwrap()
+    encode_cloud_raw(&head, data, true).unwrap()
 }
 
 fn xyz_fields(step_offset: u32) -> Vec<PointField> {
     ["x", "y", "z", "rgb"]
         .iter()
         .enumerate()
-        .map(|(k, n)| PointField {
-            name: (*n).into(),
-            offset: step_offset + 4 * k as u32,
-            datatype: datatype::FLOAT32,
-            count: 1,
-        })
+        .map(|(k, n)| PointField::new(n, step_offset + 4 * k as u32, datatype::FLOAT32))
         .collect()
 }
 

@@ -1,4 +1,4 @@
-//! Timing of one exploration step at the default (`001` small-simulation) parameters: the known
+//! Timing of one exploration step at the default (Prágr22 small-simulation) parameters: the known
 //! area is a 2.5 m disc around the robot with a few boxes; Eq. 11 on every candidate cell
 //! (stride 1, 2, 4), then Alg. 3 and the frontier representatives.
 //!

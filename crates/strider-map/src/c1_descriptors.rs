@@ -1,4 +1,4 @@
-//! The thesis C1 descriptor family (thesis C1 §III-A) on the colored 2.5D map, for the learner
+//! The Prágr18 descriptor family (Prágr18 §III-A) on the colored 2.5D map, for the learner
 //! benchmark: a colour part (RGB or Lab, of the cell itself — "Point" — or the mean within
 //! r_color = 0.2 m — "Mean" — or none) joined with a geometric part (height, shape, orientation,
 //! all three — "Set" — or none), after the 13-feature set of the paper's reference \[24\] less its
@@ -9,17 +9,17 @@
 //!
 //! * **RGB**: (r, g, b) / 255. **Lab**: (L/100, a/128, b/128).
 //! * **Height** (4, in decimetres): the cell's elevation above the global ground plane z = 0 (the
-//!   map frame; the thesis fits a global ground plane), its elevation minus the neighbourhood
+//!   map frame; Prágr18 fits a global ground plane), its elevation minus the neighbourhood
 //!   mean, the neighbourhood's standard deviation and its range max − min.
 //! * **Shape** (4): with λ1 ≤ λ2 ≤ λ3 the eigenvalues of the covariance of the neighbourhood's
-//!   (x, y, z): λ1/λ3, (λ2 − λ1)/λ3, (λ3 − λ2)/λ3 (`000` Eq. 10) and the change of curvature
+//!   (x, y, z): λ1/λ3, (λ2 − λ1)/λ3, (λ3 − λ2)/λ3 (Prágr19 Eq. 10) and the change of curvature
 //!   λ1/(λ1 + λ2 + λ3).
 //! * **Orientation** (3): the unit normal (n_x, n_y, n_z), n_z ≥ 0, of the plane fitted to the
 //!   k = 5 known cells nearest to the cell (itself included).
 //!
 //! # Degenerate input (decision 7)
 //! * λ3 ≈ 0 (a single point, or a perfectly flat tiny patch): shape (0, 0, 1, 0), as decision 7
-//!   sets the `000` descriptor's (0, 0, 1).
+//!   sets the Prágr19 descriptor's (0, 0, 1).
 //! * Fewer than three known cells for the normal, or a normal that is not unique (collinear
 //!   cells): (0, 0, 1).
 //! * Geometric features need at least half the r_geom disc known (the half-known rule of
@@ -40,7 +40,7 @@ use crate::map::ElevationMap;
 /// λ3 below this (m²) counts as zero (decision 7).
 const LAMBDA_EPS: f64 = 1e-12;
 
-/// The colour part of a C1 descriptor.
+/// The colour part of a Prágr18 descriptor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ColorFeature {
     /// No colour.
@@ -56,7 +56,7 @@ pub enum ColorFeature {
 }
 
 impl ColorFeature {
-    /// All five, in the thesis table's naming order.
+    /// All five, in the naming order of Prágr18's table.
     pub const ALL: [ColorFeature; 5] = [
         ColorFeature::RgbPoint,
         ColorFeature::RgbMean,
@@ -65,7 +65,7 @@ impl ColorFeature {
         ColorFeature::None,
     ];
 
-    /// The thesis' label: RGB-P, RGB-M, Lab-P, Lab-M, None.
+    /// Prágr18's label: RGB-P, RGB-M, Lab-P, Lab-M, None.
     pub fn label(self) -> &'static str {
         match self {
             ColorFeature::None => "None",
@@ -77,7 +77,7 @@ impl ColorFeature {
     }
 }
 
-/// The geometric part of a C1 descriptor.
+/// The geometric part of a Prágr18 descriptor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum GeomFeature {
     /// No geometry.
@@ -93,7 +93,7 @@ pub enum GeomFeature {
 }
 
 impl GeomFeature {
-    /// All five, in the thesis table's naming order.
+    /// All five, in the naming order of Prágr18's table.
     pub const ALL: [GeomFeature; 5] = [
         GeomFeature::Height,
         GeomFeature::Shape,
@@ -102,7 +102,7 @@ impl GeomFeature {
         GeomFeature::None,
     ];
 
-    /// The thesis' label: Height, Shape, Ori, Set, None.
+    /// Prágr18's label: Height, Shape, Ori, Set, None.
     pub fn label(self) -> &'static str {
         match self {
             GeomFeature::None => "None",
@@ -114,12 +114,12 @@ impl GeomFeature {
     }
 }
 
-/// Neighbourhood radii of the C1 features.
+/// Neighbourhood radii of the Prágr18 features.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct C1Params {
-    /// Radius of the colour mean, metres (thesis: 0.2).
+    /// Radius of the colour mean, metres (Prágr18: 0.2).
     pub r_color: f64,
-    /// Radius of the geometric neighbourhood, metres (thesis: 0.3).
+    /// Radius of the geometric neighbourhood, metres (Prágr18: 0.3).
     pub r_geom: f64,
 }
 
@@ -132,7 +132,7 @@ impl Default for C1Params {
     }
 }
 
-/// Every C1 feature of one cell; a part is `None` when it cannot be computed (module docs).
+/// Every Prágr18 feature of one cell; a part is `None` when it cannot be computed (module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct C1Features {
     /// RGB of the cell (or the mean when the cell has no colour).
@@ -214,7 +214,7 @@ fn covariance(pts: &[[f64; 3]]) -> Matrix3<f64> {
     })
 }
 
-/// Every C1 feature of cell `c` of `map`.
+/// Every Prágr18 feature of cell `c` of `map`.
 pub fn c1_features(map: &ElevationMap, c: Cell, params: &C1Params) -> C1Features {
     let d = map.cell_size();
     let mut f = C1Features::default();
@@ -314,15 +314,11 @@ pub fn c1_features(map: &ElevationMap, c: Cell, params: &C1Params) -> C1Features
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::MapParams;
+    use crate::testing::lattice_map;
     use strider_core::Rgb8;
 
     fn map() -> ElevationMap {
-        ElevationMap::new(MapParams {
-            cell_size: 0.05,
-            tile_size: 16,
-            ..MapParams::default()
-        })
+        lattice_map(0.05, 16)
     }
 
     #[test]

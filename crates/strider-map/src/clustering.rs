@@ -1,4 +1,4 @@
-//! `001` Alg. 3, clusterEntropyRepresentatives: spatial goals from the cells with non-zero
+//! Prágr22 Alg. 3, clusterEntropyRepresentatives: spatial goals from the cells with non-zero
 //! information gain (decision 5).
 //!
 //! Greedy, in the fixed (row-major) order of the cells: a cell joins the cluster whose centre
@@ -15,7 +15,7 @@
 //! visited (observed on `courtyard-large`, where a 10 m sensor makes most of the known area
 //! informative). Centre distance bounds each cluster to a c_radius ball, so the goals cover
 //! the informative area at c_radius spacing: "a limited number of spatial entropy
-//! representants" (`001` §4.2) rather than one.
+//! representants" (Prágr22 §4.2) rather than one.
 
 use crate::information_gain::InfoGain;
 use crate::map::ElevationMap;
@@ -116,8 +116,8 @@ pub fn cluster_information(
 mod tests {
     use super::*;
     use crate::params::MapParams;
+    use crate::testing::{block, flat};
     use approx::assert_abs_diff_eq;
-    use strider_core::Rgb8;
 
     #[test]
     fn greedy_order_matters_as_in_alg3() {
@@ -160,12 +160,7 @@ mod tests {
             ..MapParams::default()
         };
         let mut m = ElevationMap::new(params);
-        for j in 0..10 {
-            for i in 0..20 {
-                m.set_cell(Cell::new(i, j), 0.0, 1e-4, Rgb8::default());
-            }
-        }
-        m.update_passability();
+        flat(&mut m, block(0, 0, 20, 10));
         let reach = Reachability::compute(&m, Cell::new(0, 0));
         // Blob A: 2×3 cells around (2..=3, 1..=3) with gain 1 each; blob B: 3 cells (too small).
         let mut cells = Vec::new();

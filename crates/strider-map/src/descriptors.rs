@@ -1,11 +1,11 @@
 //! Terrain appearance descriptors computed on the map.
 //!
-//! * ta(ν), `001` §4.2 (decision 6): relative counts of the cell colours, each mapped to the
+//! * ta(ν), Prágr22 §4.2 (decision 6): relative counts of the cell colours, each mapped to the
 //!   nearest of nine prototypes in CIELAB, over the known cells of the disc of radius r_hist;
 //!   no descriptor when fewer than half the disc's cells are known.
-//! * The thesis C4 8-bin histogram: the same over the first eight prototypes.
+//! * The Prágr23 8-bin histogram: the same over the first eight prototypes.
 //! * Lab (a, b) of a cell.
-//! * The 5-D shape + appearance descriptor of `000` Eq. 10 (decision 7): eigenvalues
+//! * The 5-D shape + appearance descriptor of Prágr19 Eq. 10 (decision 7): eigenvalues
 //!   λ1 ≤ λ2 ≤ λ3 of the covariance of the (x, y, z) cell centres within δ_desc give
 //!   s1 = λ1/λ3, s2 = (λ2 − λ1)/λ3, s3 = (λ3 − λ2)/λ3 (unstructured / planar / linear), followed
 //!   by the mean Lab a and b of those cells divided by 128 and clamped to [−1, 1]. λ3 ≈ 0 gives
@@ -23,9 +23,9 @@ use strider_core::color::{PrototypeQuantizer, rgb_to_lab};
 use strider_core::grid::disc_offsets;
 use strider_core::{Cell, CellRect};
 
-/// Bins of ta(ν) (`001`, nine prototypes).
+/// Bins of ta(ν) (Prágr22, nine prototypes).
 pub const TA_BINS: usize = 9;
-/// Bins of the thesis C4 histogram (first eight prototypes).
+/// Bins of the Prágr23 histogram (first eight prototypes).
 pub const C4_BINS: usize = 8;
 
 /// λ3 below this (m²) counts as zero: a degenerate neighbourhood (decision 7).
@@ -174,7 +174,7 @@ fn histograms<const N: usize>(
     Raster { rect: out, values }
 }
 
-/// ta(ν) (`001` §4.2) for every cell of `rect`: 9-bin relative colour histogram within r_hist.
+/// ta(ν) (Prágr22 §4.2) for every cell of `rect`: 9-bin relative colour histogram within r_hist.
 pub fn color_histograms(
     map: &ElevationMap,
     rect: CellRect,
@@ -183,7 +183,7 @@ pub fn color_histograms(
     histograms::<TA_BINS>(map, rect, r_hist)
 }
 
-/// The thesis C4 8-bin colour histogram for every cell of `rect`.
+/// The Prágr23 8-bin colour histogram for every cell of `rect`.
 pub fn c4_histograms(
     map: &ElevationMap,
     rect: CellRect,
@@ -197,7 +197,7 @@ pub fn color_histogram(map: &ElevationMap, c: Cell, r_hist: f64) -> Option<[f32;
     color_histograms(map, CellRect::new(c, 1, 1), r_hist).values[0]
 }
 
-/// The C4 8-bin histogram of one cell.
+/// The Prágr23 8-bin histogram of one cell.
 pub fn c4_histogram(map: &ElevationMap, c: Cell, r_hist: f64) -> Option<[f32; C4_BINS]> {
     c4_histograms(map, CellRect::new(c, 1, 1), r_hist).values[0]
 }
@@ -210,7 +210,7 @@ pub fn lab_ab(map: &ElevationMap, c: Cell) -> Option<[f32; 2]> {
     })
 }
 
-/// The 5-D descriptor of `000` Eq. 10 (decision 7) for every cell of `rect`, neighbourhood
+/// The 5-D descriptor of Prágr19 Eq. 10 (decision 7) for every cell of `rect`, neighbourhood
 /// radius `delta_desc`.
 pub fn shape_lab_descriptors(
     map: &ElevationMap,
@@ -341,17 +341,13 @@ pub fn shape_lab_descriptor(map: &ElevationMap, c: Cell, delta_desc: f64) -> Opt
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::MapParams;
+    use crate::testing::lattice_map;
     use approx::assert_abs_diff_eq;
     use strider_core::Rgb8;
     use strider_core::color::COLOR_PROTOTYPES;
 
     fn map() -> ElevationMap {
-        ElevationMap::new(MapParams {
-            cell_size: 0.1,
-            tile_size: 4,
-            ..MapParams::default()
-        })
+        lattice_map(0.1, 4)
     }
 
     #[test]
@@ -371,7 +367,7 @@ mod tests {
         want[0] = 0.5;
         want[8] = 0.25;
         assert_eq!(h, want);
-        // C4 has no magenta: it goes to the nearest of the first eight prototypes.
+        // The Prágr23 histogram has no magenta: it goes to the nearest of the first eight prototypes.
         let h8 = c4_histogram(&m, Cell::new(0, 0), 0.1).unwrap();
         assert_abs_diff_eq!(h8.iter().sum::<f32>(), 1.0);
         assert_eq!(h8[0], 0.5);

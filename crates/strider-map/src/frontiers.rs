@@ -1,4 +1,4 @@
-//! Frontier representatives of `000` §IV (spatial goals of the cost-aware explorer).
+//! Frontier representatives of Prágr19 §IV (spatial goals of the cost-aware explorer).
 //!
 //! Frontier cells: reachable admissible known cells with an unknown 8-neighbour (inside the
 //! exploration bounds), ignoring those closer than r_spatial to the robot. Each 8-connected
@@ -30,7 +30,7 @@ pub struct FrontierGoal {
     pub component_size: usize,
 }
 
-/// n_r of `000` Eq. 13: 1 + ⌊f / D + 0.5⌋ for `f` frontier cells and sensor range `d_cells`.
+/// n_r of Prágr19 Eq. 13: 1 + ⌊f / D + 0.5⌋ for `f` frontier cells and sensor range `d_cells`.
 pub fn representative_count(f: usize, d_cells: f64) -> usize {
     if d_cells <= 0.0 {
         return f.max(1);
@@ -147,7 +147,7 @@ pub fn kmeans_representatives(cells: &[Cell], k: usize) -> Vec<(Cell, usize)> {
         .collect()
 }
 
-/// Frontier representatives (`000` Eq. 13) for a robot at `robot`.
+/// Frontier representatives (Prágr19 Eq. 13) for a robot at `robot`.
 pub fn frontier_goals(
     map: &ElevationMap,
     reach: &Reachability,
@@ -175,7 +175,7 @@ pub fn frontier_goals(
 mod tests {
     use super::*;
     use crate::params::MapParams;
-    use strider_core::Rgb8;
+    use crate::testing::{block, flat};
 
     #[test]
     fn eq13_counts() {
@@ -197,12 +197,7 @@ mod tests {
             ..MapParams::default()
         };
         let mut m = ElevationMap::new(p);
-        for j in 0..3 {
-            for i in 0..40 {
-                m.set_cell(Cell::new(i, j), 0.0, 1e-4, Rgb8::default());
-            }
-        }
-        m.update_passability();
+        flat(&mut m, block(0, 0, 40, 3));
         let robot = Cell::new(0, 1);
         let reach = Reachability::compute(&m, robot);
         let f = frontier_cells(&m, &reach, robot, None);

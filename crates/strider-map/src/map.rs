@@ -1,14 +1,14 @@
-//! The colored 2.5D elevation map M_2.5D (`001` §4.2): per-cell layers on one tiled lattice.
+//! The colored 2.5D elevation map M_2.5D (Prágr22 §4.2): per-cell layers on one tiled lattice.
 //!
 //! Layers (decision 1, each a separate [`TiledLayer`]): elevation mean and variance (Kalman
 //! state, decision 2), colour (running mean or first seen, decision 3), observed flag, number of
 //! fused measurements, passability π (Eq. 7–9) and configuration-space admissibility (decision 4).
-//! Fusion lives in [`crate::fusion`], the incremental passability update in
-//! [`crate::passability`].
+//! This file holds the storage and its accessors only: scans are fused into it by the `fusion`
+//! module, and the `passability` module keeps π and admissibility up to date.
 
-use crate::fusion::FusionScratch;
+use crate::fusion::scratch::FusionScratch;
 use crate::params::MapParams;
-use crate::passability::Passability;
+use crate::passability::rule::Passability;
 use crate::rect;
 use crate::tiles::TiledLayer;
 use strider_core::{Cell, CellRect, Point2, Rgb8};
@@ -218,21 +218,19 @@ impl ElevationMap {
 
     /// Elevation over `rect` as a dense row-major raster, NaN where unobserved.
     pub fn elevation_raster(&self, rect: CellRect) -> Vec<f32> {
-        let mut e = Vec::new();
-        let mut o = Vec::new();
-        self.elevation.read_rect(rect, &mut e);
-        self.observed.read_rect(rect, &mut o);
-        e.iter()
-            .zip(&o)
-            .map(|(&z, &k)| if k { z } else { f32::NAN })
-            .collect()
+        self.observed_values(&self.elevation, rect)
     }
 
     /// Elevation variance over `rect`, NaN where unobserved.
     pub fn variance_raster(&self, rect: CellRect) -> Vec<f32> {
+        self.observed_values(&self.variance, rect)
+    }
+
+    /// `layer` over `rect`, NaN where unobserved.
+    fn observed_values(&self, layer: &TiledLayer<f32>, rect: CellRect) -> Vec<f32> {
         let mut e = Vec::new();
         let mut o = Vec::new();
-        self.variance.read_rect(rect, &mut e);
+        layer.read_rect(rect, &mut e);
         self.observed.read_rect(rect, &mut o);
         e.iter()
             .zip(&o)

@@ -1,4 +1,4 @@
-//! observable(ν, ν') of `001` Eq. 11 by ray casting in the elevation map (decision 5).
+//! observable(ν, ν') of Prágr22 Eq. 11 by ray casting in the elevation map (decision 5).
 //!
 //! The sensor sits `h_sensor` above the centre of ν at ν's elevation; the target point is the
 //! centre of ν' at its elevation (at ν's elevation when ν' is unknown: the ground is assumed
@@ -203,18 +203,14 @@ pub fn observable(map: &ElevationMap, from: Cell, to: Cell, h_sensor: f64) -> bo
 mod tests {
     use super::*;
     use crate::params::MapParams;
+    use crate::testing::{block, known, lattice_map};
     use proptest::prelude::*;
     use strider_core::Rgb8;
 
     #[test]
     fn wall_blocks_and_unknown_is_transparent() {
-        let mut m = ElevationMap::new(MapParams {
-            cell_size: 0.1,
-            ..MapParams::default()
-        });
-        for i in 0..10 {
-            m.set_cell(Cell::new(i, 0), 0.0, 1e-4, Rgb8::default());
-        }
+        let mut m = lattice_map(0.1, MapParams::default().tile_size);
+        known(&mut m, block(0, 0, 10, 1), |_| 0.0);
         let (a, b) = (Cell::new(0, 0), Cell::new(9, 0));
         assert!(observable(&m, a, b, 0.3));
         // Sensor at 0.3, target at 0: cell 5 spans x ∈ [0.5, 0.6], t ∈ [0.5, 0.6111], where the
@@ -234,15 +230,8 @@ mod tests {
 
     #[test]
     fn corner_crossings_block_only_between_two_walls() {
-        let mut m = ElevationMap::new(MapParams {
-            cell_size: 0.1,
-            ..MapParams::default()
-        });
-        for j in 0..3 {
-            for i in 0..3 {
-                m.set_cell(Cell::new(i, j), 0.0, 1e-4, Rgb8::default());
-            }
-        }
+        let mut m = lattice_map(0.1, MapParams::default().tile_size);
+        known(&mut m, block(0, 0, 3, 3), |_| 0.0);
         let (a, b) = (Cell::new(0, 0), Cell::new(2, 2));
         // The 45° ray crosses the corners (1,1)·d and (2,2)·d; (1,1) is on the path.
         m.set_cell(Cell::new(1, 2), 1.0, 1e-4, Rgb8::default());

@@ -1,4 +1,4 @@
-//! Map parameters (`001` Table 3, `000` Alg. 1 inputs, decisions 1–7). Defaults are the `001`
+//! Map parameters (Prágr22 Table 3, Prágr19 Alg. 1 inputs, decisions 1–7). Defaults are the Prágr22
 //! small-simulation column.
 
 use serde::{Deserialize, Serialize};
@@ -22,7 +22,7 @@ pub struct MapParams {
     pub cell_size: f64,
     /// Tile edge in cells (decision 1).
     pub tile_size: u32,
-    /// Roughness passability threshold ρ_obstacle, metres (`001` Eq. 9; C4 t_trav).
+    /// Roughness passability threshold ρ_obstacle, metres (Prágr22 Eq. 9; Prágr23 t_trav).
     pub rho_obstacle: f64,
     /// Robot footprint radius r_robot, metres (configuration-space inflation, Eq. 12).
     pub r_robot: f64,
@@ -32,7 +32,7 @@ pub struct MapParams {
     pub sensor_height: f64,
     /// Colour histogram descriptor radius r_hist, metres.
     pub r_hist: f64,
-    /// 5-D descriptor neighbourhood δ_desc, metres (`000` Eq. 10).
+    /// 5-D descriptor neighbourhood δ_desc, metres (Prágr19 Eq. 10).
     pub delta_desc: f64,
     /// Spatial clustering radius c_radius, metres (Alg. 3).
     pub c_radius: f64,
@@ -51,7 +51,7 @@ pub struct MapParams {
     pub color_mode: ColorMode,
     /// Stride (cells) of the lattice on which Eq. 11 is evaluated (1 = every candidate cell).
     pub info_gain_stride: u32,
-    /// Frontier cells closer than this to the robot are ignored (`000` r_spatial), metres.
+    /// Frontier cells closer than this to the robot are ignored (Prágr19 r_spatial), metres.
     pub r_spatial: f64,
     /// Returns farther than this from the sensor origin are not fused, metres (bounds the
     /// per-scan scratch raster against stray far points).

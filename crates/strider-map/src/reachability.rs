@@ -1,5 +1,5 @@
 //! Cells reachable from the robot: an 8-connected flood fill over admissible cells (decision 4;
-//! `000` "reachable cells", `001` candidates of Eq. 11).
+//! Prágr19 "reachable cells", Prágr22 candidates of Eq. 11).
 
 use crate::map::ElevationMap;
 use std::collections::VecDeque;
@@ -42,7 +42,7 @@ impl Reachability {
     }
 
     /// The cells reachable from `start` over the cells of a caller's admissibility raster
-    /// (`admissible`, row-major over `rect`) instead of the map's own layer: thesis C4 Eq. 4
+    /// (`admissible`, row-major over `rect`) instead of the map's own layer: Prágr23 Eq. 4
     /// admits apparent obstacles that were learnt to be traversable. The start cell is included
     /// whenever it is observed, as in [`Reachability::compute`]. A raster of the wrong size
     /// gives an empty set.
@@ -215,6 +215,7 @@ impl Reachability {
 mod tests {
     use super::*;
     use crate::params::MapParams;
+    use crate::testing::{block, known};
     use strider_core::Rgb8;
 
     #[test]
@@ -227,12 +228,9 @@ mod tests {
             ..MapParams::default()
         };
         let mut m = ElevationMap::new(p);
-        for j in 0..10 {
-            for i in 0..10 {
-                let z = if i == 5 { 1.0 } else { 0.0 };
-                m.set_cell(Cell::new(i, j), z, 1e-4, Rgb8::default());
-            }
-        }
+        known(&mut m, block(0, 0, 10, 10), |c| {
+            if c.i == 5 { 1.0 } else { 0.0 }
+        });
         m.update_passability();
         let r = Reachability::compute(&m, Cell::new(1, 1));
         // Columns 4..=6 are impassable (the wall and the cells beside it).

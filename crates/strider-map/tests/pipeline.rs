@@ -1,6 +1,6 @@
 //! End-to-end: fuse synthetic scans of a floor with a box, then passability, reachability,
 //! information gain (Eq. 10–11), Alg. 3 goals, frontier representatives (Eq. 13) and
-//! descriptors, as `001` Alg. 2 runs them.
+//! descriptors, as Prágr22 Alg. 2 runs them.
 
 use strider_core::{Cell, ColoredPoint, Point2, Point3, PointCloud};
 use strider_map::descriptors::{color_histograms, shape_lab_descriptors};
@@ -56,21 +56,11 @@ fn scan(origin: Point3, range: f32, d: f32) -> PointCloud {
                 } else {
                     [130, 90, 50]
                 };
-                points.push(ColoredPoint {
-                    x,
-                    y,
-                    z: height(x, y),
-                    rgb,
-                });
+                points.push(ColoredPoint::new(x, y, height(x, y), rgb));
             }
         }
     }
-    PointCloud {
-        stamp: 0.0,
-        sensor: 0,
-        origin,
-        points,
-    }
+    PointCloud::new(0.0, 0, origin, points)
 }
 
 #[test]

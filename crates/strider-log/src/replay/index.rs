@@ -1,0 +1,272 @@
+//! The checking pass of a replay: every message on a configured topic is checked and all but
+//! the clouds' payloads are decoded, so a faulty log is reported before any work.
+
+use super::reader::Reader;
+use super::roles::{Role, check};
+use super::tf::{Iso, TfBuffer};
+use crate::cdr;
+use crate::config::ReplayConfig;
+use crate::error::{LogError, MessageAt};
+use crate::ros2::{
+    HeaderPrefix, MsgType, Odometry, Quaternion, StringMsg, TfMessage, UInt8Msg, nanos_to_seconds,
+    seconds_to_nanos,
+};
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+use strider_core::GaitId;
+
+/// Longest log accepted, s: a longer span means a bogus stamp, which would make the replay
+/// tick through years of nothing.
+pub const MAX_SPAN_S: f64 = 7.0 * 86400.0;
+
+/// A stamp (ns) with the topic and index of the message that carried it.
+type Stamped = (i64, String, usize);
+
+/// What the checking pass learnt of a log. Stamps are the log's own (ns); `seq` numbers count
+/// the messages of the file from 1, in file order.
+pub(super) struct LogIndex {
+    /// Messages per topic.
+    counts: BTreeMap<String, usize>,
+    /// Messages in the file (all topics).
+    pub(super) messages: u64,
+    /// The transform tree.
+    pub(super) tf: TfBuffer,
+    /// Odometry: (stamp, seq, index on the topic, frame, pose in that frame; a NaN rotation
+    /// when it was unusable).
+    pub(super) odoms: Vec<(i64, u64, usize, String, Iso)>,
+    /// The stamps of the base frame's transforms, when the pose comes from /tf: (stamp, seq).
+    pub(super) base_tf: Vec<(i64, u64)>,
+    /// Gait messages: (log time, seq, gait).
+    pub(super) gaits: Vec<(i64, u64, GaitId)>,
+    /// Motion-state messages: (log time, seq, bits).
+    pub(super) motion: Vec<(i64, u64, u8)>,
+    /// Clouds per configured cloud topic.
+    pub(super) cloud_count: Vec<usize>,
+    /// The earliest and latest stamps.
+    lo: Stamped,
+    hi: Stamped,
+}
+
+/// What the pass needs to read a message.
+struct Context<'a> {
+    cfg: &'a ReplayConfig,
+    roles: &'a HashMap<String, Role>,
+    gait_names: &'a [&'a str],
+}
+
+impl LogIndex {
+    /// Reads and checks the log at `path`.
+    pub(super) fn read(
+        path: &Path,
+        cfg: &ReplayConfig,
+        roles: &HashMap<String, Role>,
+        gait_names: &[&str],
+    ) -> Result<Self, LogError> {
+        let mut reader = Reader::open(path)?;
+        let mut ix = LogIndex {
+            counts: BTreeMap::new(),
+            messages: 0,
+            tf: TfBuffer::new(seconds_to_nanos(cfg.tf.tolerance_s)),
+            odoms: Vec::new(),
+            base_tf: Vec::new(),
+            gaits: Vec::new(),
+            motion: Vec::new(),
+            cloud_count: vec![0; cfg.clouds.len()],
+            lo: (i64::MAX, String::new(), 0),
+            hi: (i64::MIN, String::new(), 0),
+        };
+        let cx = Context {
+            cfg,
+            roles,
+            gait_names,
+        };
+        while let Some(m) = reader.next_message(path, ix.messages) {
+            let m = m?;
+            ix.messages += 1;
+            ix.take(&m, &cx)?;
+        }
+        Ok(ix)
+    }
+
+    /// Checks message `m` and keeps what the replay needs of it.
+    fn take(&mut self, m: &mcap::Message, cx: &Context) -> Result<(), LogError> {
+        let topic = &m.channel.topic;
+        let index = {
+            let c = self.counts.entry(topic.clone()).or_default();
+            *c += 1;
+            *c - 1
+        };
+        let Some(&role) = cx.roles.get(topic) else {
+            return Ok(());
+        };
+        let schema = m.channel.schema.as_ref().map_or("", |s| s.name.as_str());
+        check(topic, &m.channel.message_encoding, schema, role)?;
+        let at = MessageAt { topic, index };
+        let log_ns = i64::try_from(m.log_time).unwrap_or(i64::MAX);
+        match role {
+            Role::Odometry => {
+                let o: Odometry = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
+                self.odometry(o, at);
+            }
+            Role::Tf | Role::TfStatic => {
+                let msg: TfMessage = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
+                self.transforms(msg, role == Role::TfStatic, at, cx.cfg)?;
+            }
+            Role::Gait => {
+                let g = gait(&m.data, schema, at, cx.gait_names)?;
+                self.span(log_ns, at);
+                self.gaits.push((log_ns, self.messages, g));
+            }
+            Role::Motion => {
+                let v: UInt8Msg = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
+                self.span(log_ns, at);
+                self.motion.push((log_ns, self.messages, v.data));
+            }
+            Role::Cloud(i) => {
+                // Only the header now; the payload is checked when it is delivered.
+                let h: HeaderPrefix = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
+                self.span(h.header.stamp.nanos(), at);
+                self.cloud_count[i as usize] += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// Widens the span of stamps to `ns`.
+    fn span(&mut self, ns: i64, at: MessageAt) {
+        if ns < self.lo.0 {
+            self.lo = (ns, at.topic.to_string(), at.index);
+        }
+        if ns > self.hi.0 {
+            self.hi = (ns, at.topic.to_string(), at.index);
+        }
+    }
+
+    /// Keeps an odometry message's pose (with a NaN rotation when its orientation is unusable).
+    fn odometry(&mut self, o: Odometry, at: MessageAt) {
+        let ns = o.header.stamp.nanos();
+        self.span(ns, at);
+        let p = o.pose.pose;
+        let iso = Iso {
+            q: p.orientation.normalized().unwrap_or(Quaternion {
+                x: f64::NAN,
+                y: f64::NAN,
+                z: f64::NAN,
+                w: f64::NAN,
+            }),
+            t: [p.position.x, p.position.y, p.position.z],
+        };
+        self.odoms
+            .push((ns, self.messages, at.index, o.header.frame_id.0, iso));
+    }
+
+    /// Adds a /tf or /tf_static message's transforms to the tree.
+    fn transforms(
+        &mut self,
+        msg: TfMessage,
+        is_static: bool,
+        at: MessageAt,
+        cfg: &ReplayConfig,
+    ) -> Result<(), LogError> {
+        for ts in msg.transforms {
+            let Some(iso) = Iso::from_msg(&ts.transform) else {
+                return Err(at.content(format!(
+                    "transform {} → {} is not finite or has a zero rotation",
+                    ts.header.frame_id.0, ts.child_frame_id.0
+                )));
+            };
+            let child = ts.child_frame_id.0;
+            let parent = ts.header.frame_id.0;
+            if child == parent {
+                return Err(at.content(format!("frame {child:?} is its own parent")));
+            }
+            if is_static {
+                self.tf.add_static(child, parent, iso);
+            } else {
+                let ns = ts.header.stamp.nanos();
+                if cfg.pose.from_tf && child == cfg.pose.base_frame {
+                    self.span(ns, at);
+                    self.base_tf.push((ns, self.messages));
+                }
+                self.tf.add(child, ns, parent, iso);
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks that every topic the configuration needs has messages.
+    pub(super) fn require_topics(&self, path: &Path, cfg: &ReplayConfig) -> Result<(), LogError> {
+        let available = || {
+            if self.counts.is_empty() {
+                "none".to_string()
+            } else {
+                self.counts.keys().cloned().collect::<Vec<_>>().join(", ")
+            }
+        };
+        let missing = |topic: &str, what: &'static str| LogError::MissingTopic {
+            path: path.into(),
+            topic: topic.into(),
+            what,
+            available: available(),
+        };
+        for (c, n) in cfg.clouds.iter().zip(&self.cloud_count) {
+            if *n == 0 {
+                return Err(missing(&c.topic, "point clouds"));
+            }
+        }
+        if cfg.pose.from_tf {
+            if self.base_tf.is_empty() {
+                return Err(missing(&cfg.tf.topic, "the pose from tf"));
+            }
+        } else if self.odoms.is_empty() {
+            return Err(missing(&cfg.pose.topic, "the pose"));
+        }
+        Ok(())
+    }
+
+    /// The earliest and the latest stamp, checked to lie at most [`MAX_SPAN_S`] apart.
+    pub(super) fn span_ns(&self) -> Result<(i64, i64), LogError> {
+        let (lo, hi) = (&self.lo, &self.hi);
+        let span_s = nanos_to_seconds(hi.0.saturating_sub(lo.0));
+        if span_s > MAX_SPAN_S {
+            return Err(LogError::Content {
+                topic: hi.1.clone(),
+                index: hi.2,
+                reason: format!(
+                    "its stamp is {span_s:.0} s after the earliest one (topic {}, message {}): \
+                     the stamps are inconsistent (more than {MAX_SPAN_S:.0} s apart)",
+                    lo.1, lo.2
+                ),
+            });
+        }
+        Ok((lo.0, hi.0))
+    }
+}
+
+/// The gait of a gait message: an index (`std_msgs/UInt8`) or a name (`std_msgs/String`) of
+/// one of the robot's `gait_names`.
+fn gait(data: &[u8], schema: &str, at: MessageAt, gait_names: &[&str]) -> Result<GaitId, LogError> {
+    if schema == MsgType::UInt8.name() {
+        let v: UInt8Msg = cdr::decode(data).map_err(|e| at.decode(e))?;
+        if (v.data as usize) >= gait_names.len() {
+            return Err(at.content(format!(
+                "gait index {} but the robot has {} gaits",
+                v.data,
+                gait_names.len()
+            )));
+        }
+        return Ok(GaitId(v.data));
+    }
+    let v: StringMsg = cdr::decode(data).map_err(|e| at.decode(e))?;
+    let k = gait_names
+        .iter()
+        .position(|g| *g == v.data.0)
+        .ok_or_else(|| {
+            at.content(format!(
+                "unknown gait {:?} (the robot's gaits: {})",
+                v.data.0,
+                gait_names.join(", ")
+            ))
+        })?;
+    Ok(GaitId(k as u8))
+}

@@ -1,0 +1,73 @@
+//! The MCAP message reader of a replay, bounded against corrupted lengths and counting the
+//! bytes it read to say where a fault was found.
+
+use crate::error::LogError;
+use std::cell::Cell;
+use std::fs::File;
+use std::io::{BufReader, Read};
+use std::path::Path;
+use std::rc::Rc;
+
+/// Largest record (and decompressed chunk) read, bytes: far above any sensor message, and a
+/// bound on what a corrupted length field can make the reader allocate.
+pub const MAX_RECORD_BYTES: usize = 256 << 20;
+
+/// Counts the bytes read (shared with the owner of the reader, which keeps the source), to
+/// say where a fault was found.
+struct Counting<R> {
+    inner: R,
+    n: Rc<Cell<u64>>,
+}
+
+impl<R: Read> Read for Counting<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let k = self.inner.read(buf)?;
+        self.n.set(self.n.get() + k as u64);
+        Ok(k)
+    }
+}
+
+/// A message reader and its byte count.
+pub(super) struct Reader {
+    r: mcap::io::MessageReader<Counting<BufReader<File>>>,
+    n: Rc<Cell<u64>>,
+}
+
+impl Reader {
+    /// Opens `path` for reading its messages in file order.
+    pub(super) fn open(path: &Path) -> Result<Reader, LogError> {
+        let f = File::open(path).map_err(|e| LogError::io(path, e))?;
+        let n = Rc::new(Cell::new(0));
+        // Bounded record and chunk sizes: a corrupted length must not make the reader allocate
+        // what it announces; CRCs checked, so a corrupted chunk is reported as such.
+        let options = mcap::sans_io::LinearReaderOptions::default()
+            .with_record_length_limit(MAX_RECORD_BYTES)
+            .with_validate_chunk_crcs(true)
+            .with_validate_data_section_crc(true);
+        Ok(Reader {
+            r: mcap::io::MessageReader::new_with_options(
+                Counting {
+                    inner: BufReader::with_capacity(1 << 20, f),
+                    n: n.clone(),
+                },
+                options,
+            ),
+            n,
+        })
+    }
+
+    /// The next message of `path` after `messages` read so far, `None` at the end.
+    pub(super) fn next_message(
+        &mut self,
+        path: &Path,
+        messages: u64,
+    ) -> Option<Result<mcap::Message<'static>, LogError>> {
+        let m = self.r.next()?;
+        Some(m.map_err(|source| LogError::Mcap {
+            path: path.into(),
+            messages: messages as usize,
+            offset: self.n.get(),
+            source,
+        }))
+    }
+}
