@@ -41,6 +41,7 @@ pub mod rbcm_greedy;
 pub mod registry;
 pub mod shadow;
 pub mod stats;
+mod timing;
 pub mod tour_explorer;
 
 pub use kernel::{
