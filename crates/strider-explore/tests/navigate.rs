@@ -1,4 +1,4 @@
-//! `004` repeated navigation through the robot interface, on a small synthetic world with a
+//! Nardi19 repeated navigation through the robot interface, on a small synthetic world with a
 //! scripted robot: the learned runs must move from the shortest path to the cheap road, the
 //! baselines are measured like the runs, and bad inputs are errors.
 

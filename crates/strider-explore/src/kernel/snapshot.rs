@@ -1,4 +1,4 @@
-//! What every strategy puts into a [`Snapshot`] the same way: the map's layers, goal sites at
+//! What every strategy puts into a [`Snapshot`](strider_core::snapshot::Snapshot) the same way: the map's layers, goal sites at
 //! the map's elevation, and the spatial goals.
 
 use super::body::Body;

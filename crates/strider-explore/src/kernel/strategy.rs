@@ -46,7 +46,7 @@ pub trait Strategy {
         state: &mut MotionState,
         t: f64,
     ) -> Option<Termination>;
-    /// One tick of ingesting a recorded log ([`Mission::ingest`]): measurement and learning
+    /// One tick of ingesting a recorded log (`Mission::ingest`): measurement and learning
     /// only, no goals, planning or commands. Default: nothing beyond the body's mapping.
     fn ingest_tick(&mut self, _body: &mut Body, _state: &mut MotionState, _t: f64) {}
     /// Called once after the last tick at robot time `t` (the robot is stopped).
