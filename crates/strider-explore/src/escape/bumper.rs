@@ -60,16 +60,10 @@ impl EscapeMission {
         self.log.contacts.push(event);
     }
 
-    /// Walks straight at the nearest pushable obstacle cell ahead, if any (the robot learns
-    /// and is moving); true when the push started.
-    pub(super) fn start_push(
-        &mut self,
-        body: &Body,
-        robot: &mut dyn Actuators,
-        t: f64,
-        state: MotionState,
-    ) -> bool {
-        if !self.learns() || state.idle {
+    /// Walks straight at the nearest pushable obstacle cell ahead, if any, when the robot
+    /// learns; true when the push started.
+    pub(super) fn start_push(&mut self, body: &Body, robot: &mut dyn Actuators, t: f64) -> bool {
+        if !self.learns() {
             return false;
         }
         let (Some(pose), Some(target)) = (self.robot_pose(body), self.pushable_ahead(body)) else {

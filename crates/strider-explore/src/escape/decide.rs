@@ -24,7 +24,7 @@ impl EscapeMission {
     /// Alg. 2 lines 11–24 for the current state; `Some` ends the exploration.
     pub(super) fn decide(
         &mut self,
-        body: &mut Body,
+        body: &Body,
         robot: &mut dyn Actuators,
         t: f64,
         state: MotionState,

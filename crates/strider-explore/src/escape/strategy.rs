@@ -90,7 +90,7 @@ impl Strategy for EscapeMission {
             self.looking = None;
             self.replan = true;
         }
-        if self.start_push(body, robot, t, state) {
+        if !state.idle && self.start_push(body, robot, t) {
             return None;
         }
         if self.replan || state.idle || state.blocked {

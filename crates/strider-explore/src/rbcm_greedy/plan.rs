@@ -12,18 +12,18 @@ use super::{MAX_REFUSALS_PER_GOAL, NO_CELL_TIMEOUT_S, RbcmGreedy};
 use crate::kernel::{Actuators, Body, Manoeuvre, Termination, start_look_around};
 use crate::timing::ms_since;
 use std::time::Instant;
-use strider_core::interface::MotionState;
 use strider_core::{Cell, Point2};
 use strider_plan::grid::CostGrid;
 
 impl RbcmGreedy {
-    /// One cycle of Alg. 1 (lines 2–10); `Some` when the exploration ends.
+    /// One cycle of Alg. 1 (lines 2–10) at `t`, `stopped` when the robot has finished its
+    /// path; `Some` when the exploration ends.
     pub(super) fn plan(
         &mut self,
         body: &mut Body,
         robot: &mut dyn Actuators,
         t: f64,
-        state: MotionState,
+        stopped: bool,
     ) -> Option<Termination> {
         let Some(pos) = body.position() else {
             return None; // no pose yet
@@ -35,7 +35,7 @@ impl RbcmGreedy {
             return self.without_cell(t);
         };
         // A goal reached (or the path to it finished) first triggers its manoeuvre.
-        if self.goal_reached(body, robot, t, pos, state) {
+        if self.goal_reached(body, robot, t, pos, stopped) {
             return None;
         }
         let (trv_ms, inference_ms) = self.rebuild_cost_map(body, rc);
@@ -101,7 +101,7 @@ impl RbcmGreedy {
         (t - since >= NO_CELL_TIMEOUT_S).then_some(Termination::NoReachableGoals)
     }
 
-    /// The goal reached at `pos` (or the path to it finished): a cost goal is sampled, a
+    /// The goal reached at `pos` (or the path to it finished, `stopped`): a cost goal is sampled, a
     /// spatial goal is visited and, with a limited field of view, looked around from. True
     /// when a manoeuvre started.
     fn goal_reached(
@@ -110,11 +110,11 @@ impl RbcmGreedy {
         robot: &mut dyn Actuators,
         t: f64,
         pos: Point2,
-        state: MotionState,
+        stopped: bool,
     ) -> bool {
         let Some(g) = self.goal else { return false };
         let near = (g.point.x - pos.x).hypot(g.point.y - pos.y) <= 1.5 * self.params.mcost_cell;
-        if !(near || state.idle) {
+        if !(near || stopped) {
             return false;
         }
         self.goal = None;

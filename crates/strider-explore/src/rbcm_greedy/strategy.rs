@@ -86,7 +86,7 @@ impl Strategy for RbcmGreedy {
         if every.is_due(t) || state.idle || state.blocked {
             every.ran(t);
             self.plan_every = Some(every);
-            if let Some(end) = self.plan(body, robot, t, *state) {
+            if let Some(end) = self.plan(body, robot, t, state.idle) {
                 return Some(end);
             }
             state.idle = false;

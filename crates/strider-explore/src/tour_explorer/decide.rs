@@ -10,29 +10,20 @@ use strider_core::interface::MotionState;
 use strider_core::{Cell, GaitId};
 
 impl TourExplorer {
-    /// The planner's module at `tour_hz`: Alg. 1 lines 11–25, then, when no new tour was
-    /// planned, the planning view brought to the latest models (the gait choice reads it; a
-    /// new tour has just rebuilt it). Returns the termination when the exploration is finished.
-    pub(super) fn decide(
-        &mut self,
-        body: &mut Body,
-        robot: &mut dyn Actuators,
-        t: f64,
-        state: MotionState,
-    ) -> Option<Termination> {
-        let end = self.decide_tour(body, robot, t, state);
-        if end.is_none()
-            && self.behaviour.costs == CostMode::Learned
+    /// After a tour decision that planned no new tour: the planning view brought to the
+    /// latest models (the gait choice reads it; a new tour has just rebuilt it).
+    pub(super) fn catch_up_view(&mut self, body: &mut Body) {
+        if self.behaviour.costs == CostMode::Learned
             && self.view_key.is_some_and(|k| k.1 != self.learn_generation)
         {
             body.map_mut().update_passability();
             self.refresh_view(body, CostMode::Learned);
         }
-        end
     }
 
-    /// Alg. 1 lines 11–25. Returns the termination when the exploration is finished.
-    fn decide_tour(
+    /// The planner's module at `tour_hz`: Alg. 1 lines 11–25. Returns the termination when
+    /// the exploration is finished.
+    pub(super) fn decide_tour(
         &mut self,
         body: &mut Body,
         robot: &mut dyn Actuators,

@@ -76,7 +76,10 @@ impl Strategy for TourExplorer {
         self.learning_tick(body, &mut m, t);
         if m.tour.is_due(t) || state.idle || state.blocked {
             let w = Instant::now();
-            let end = self.decide(body, robot, t, *state);
+            let end = self.decide_tour(body, robot, t, *state);
+            if end.is_none() {
+                self.catch_up_view(body);
+            }
             self.log.phase_wall_s.planning += w.elapsed().as_secs_f64();
             if end.is_some() {
                 self.modules = Some(m);
