@@ -16,6 +16,11 @@
 //! rebuilt, the robot stopped, or a reflex ended. It reads only what the robot reports (poses,
 //! clouds, the bumper force, the motion state).
 //!
+//! The mission itself is split by concept: `strategy` (the kernel's tick), `modules` (relearning,
+//! the view and spatial goals, the time series), `decide` (goal choice and path), `bumper`
+//! (contacts, pushes and reflexes), with its parameters in [`params`], its record in [`log`]
+//! and the contact geometry in [`contact`].
+//!
 //! Decisions where the thesis is silent:
 //! * the predictor is learned as soon as the first haptic measurement exists (Alg. 2 line 12
 //!   distinguishes "P is not learned"; waiting up to 33 s for the first scheduled relearn would

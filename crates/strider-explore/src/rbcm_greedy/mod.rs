@@ -20,6 +20,10 @@
 //! terrain). Each pair is added to the newest expert, whose hyperparameters are then refitted
 //! (bounded, ≤ 200 iterations, Prágr19 §V-A).
 //!
+//! The explorer is split by concept: `strategy` (the kernel's tick), `learning` (roll windows
+//! into the committee), `plan` (the planning cycle above), [`carrot_waypoints`] (the path handed
+//! to the robot), with its parameters in [`params`] and its record in [`log`].
+//!
 //! Decisions where the paper is silent:
 //! * without a model (no expert of ≥ m_min pairs) there is no cost goal: Alg. 1 line 4 gets the
 //!   experts with at least m_min observations, and the paper's robot "chooses to go towards the

@@ -8,6 +8,13 @@
 //! identification at 0.1 Hz, the tour and path at 1 Hz when the goal set changed or the current
 //! goal was reached.
 //!
+//! The files, one concept each: `strategy` (the kernel's tick and the module schedule),
+//! `measure` (cost measurement and the stuck reflex; `stuck` holds the tests it shares with the
+//! benchmark tours), `modules` (spatial goals and learning at their rates), `goals` (the goal
+//! set and the goal the robot committed to), `decide` (goals reached, the tour, the path and
+//! the gait choice), `manoeuvres` (the sampling walk), `log` and `snapshot` (what a mission
+//! records and shows).
+//!
 //! Decisions where the paper is silent:
 //! * a goal counts as reached when the robot is within 1.5 cells of its site or has finished
 //!   the path to it;
