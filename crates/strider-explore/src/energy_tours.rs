@@ -1,17 +1,17 @@
-//! `003` energy-optimal repeated tours: a robot drives the same set of waypoints again and
+//! MartinCorke energy-optimal repeated tours: a robot drives the same set of waypoints again and
 //! again, learns from its motor power where driving is expensive, and re-plans each tour to
 //! spend less energy.
 //!
 //! # The paper's model
 //!
-//! `003` §3 writes the energy of a tour of duration T along the path x(t) as
+//! MartinCorke §3 writes the energy of a tour of duration T along the path x(t) as
 //!
 //! E_t = ∫₀ᵀ { P_m(v(x(t)), θ(x(t)), τ(x(t))) + P_h } dt,
 //!
 //! the motive power P_m (a function of the terrain) plus a constant hotel load P_h, and seeks the
 //! tour x* = argmin E_t that visits every waypoint. At the constant commanded speed v this is a
 //! cost per metre: the motive energy per metre e_m(x) = P_m / v, which the robot learns, plus the
-//! hotel load per metre P_h / v, which it knows. `003` §3.1 models e_m with a zero-mean GP with
+//! hotel load per metre P_h / v, which it knows. MartinCorke §3.1 models e_m with a zero-mean GP with
 //! the squared exponential kernel of its Eq. 1, k(x, x') = σ_f² exp(−‖x − x'‖² / (2 l²)), with
 //! σ_f and l learnt, on samples binned into cells; §3.2 plans with D* between every pair of
 //! waypoints and orders them with an exact TSP; the first tour is the shortest one (the GP is
@@ -25,9 +25,9 @@
 //!   (trapezoids); e_m comes from [`strider_learn::signals::EnergyCost`] over a short window,
 //!   fed with a moving average of the noisy pose stream (path lengths of raw 30 Hz poses with
 //!   millimetre noise would be dominated by the noise). Windows that contain a turn in place
-//!   are not learnt from: turning energy is not a property of the ground (`003` §5 leaves it
+//!   are not learnt from: turning energy is not a property of the ground (MartinCorke §5 leaves it
 //!   out of the model too), and a window with little travel turns it into a huge J/m.
-//! * [`model`]: the samples binned into square cells (bin mean of e_m, `003` §3.1), and the
+//! * [`model`]: the samples binned into square cells (bin mean of e_m, MartinCorke §3.1), and the
 //!   zero-mean GP of Eq. 1 on the bin centres, refitted after every tour with hyperparameters by
 //!   type-II maximum likelihood within bounds ([`strider_learn::gp::fit_hyperparameters`]).
 //! * [`route`]: the planning grid over the planning area with per-metre cost
@@ -86,11 +86,11 @@ pub struct EnergyTourParams {
     pub hotel_load_w: f64,
     /// Robot mass, kg (only for the cost of transport the energy signal also reports).
     pub mass_kg: f64,
-    /// Number of tours (`003`: 25).
+    /// Number of tours (MartinCorke: 25).
     pub n_tours: usize,
-    /// Pose stream rate, Hz (sizes the signal buffers; `003`: 30 Hz).
+    /// Pose stream rate, Hz (sizes the signal buffers; MartinCorke: 30 Hz).
     pub pose_rate_hz: f64,
-    /// Power stream rate, Hz (sizes the signal buffers; `003`: 10 Hz).
+    /// Power stream rate, Hz (sizes the signal buffers; MartinCorke: 10 Hz).
     pub power_rate_hz: f64,
     /// Robot time per control step, seconds.
     pub control_dt_s: f64,
@@ -104,12 +104,12 @@ pub struct EnergyTourParams {
     /// Windows whose mean speed is below this fraction of the commanded speed are not learnt
     /// from (the robot was standing).
     pub min_speed_fraction: f64,
-    /// Side of the square bins the samples are averaged in, metres (`003` §3.1).
+    /// Side of the square bins the samples are averaged in, metres (MartinCorke §3.1).
     pub bin_size_m: f64,
     /// Initial lengthscale of the first hyperparameter fit, metres (later fits start from the
     /// previous result).
     pub initial_lengthscale: f64,
-    /// Bounds of the hyperparameter fit (`003` Eq. 1: σ_f and l are learnt).
+    /// Bounds of the hyperparameter fit (MartinCorke Eq. 1: σ_f and l are learnt).
     pub hyper_bounds: HyperBounds,
     /// Two plans are the same tour when no point of either path lies farther than this from
     /// the other path, metres.
@@ -121,7 +121,7 @@ pub struct EnergyTourParams {
 
 impl EnergyTourParams {
     /// The task (waypoints, closed or open, planning area and cell size) and the robot (gait,
-    /// speed, hotel load, mass) with the defaults of `003` for everything else: 25 tours,
+    /// speed, hotel load, mass) with the defaults of MartinCorke for everything else: 25 tours,
     /// 30 Hz poses, 10 Hz power, 0.1 m bins, SE kernel with fitted hyperparameters.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
@@ -160,7 +160,7 @@ impl EnergyTourParams {
             // At most three: the samples lie along the few lines the robot drove, across which
             // the lengthscale is not identified, so the fit runs to whatever upper bound it is
             // given; beyond a few bins it spreads one crossing of the carpet over the whole
-            // arena and the optimism of the zero mean (`003` §3.2: visited cells are known,
+            // arena and the optimism of the zero mean (MartinCorke §3.2: visited cells are known,
             // unvisited ones optimistically cheap) never draws the robot anywhere. Signal and
             // noise variances span the J/m a small robot can show.
             hyper_bounds: HyperBounds {
@@ -259,7 +259,7 @@ impl EnergyTourParams {
         self.hotel_load_w / self.speed_mps
     }
 
-    /// The GP of `003` Eq. 1 before any fit: zero prior mean, SE kernel with the initial
+    /// The GP of MartinCorke Eq. 1 before any fit: zero prior mean, SE kernel with the initial
     /// lengthscale, unit signal variance and a small noise (replaced by the first fit).
     pub fn initial_gp(&self) -> GpParams {
         GpParams {
@@ -474,7 +474,7 @@ pub fn drive_fixed_tour<R: Robot>(
     Ok(out)
 }
 
-/// The `003` loop: plan on the current model (tour 1: the shortest tour), drive, bin the
+/// The MartinCorke loop: plan on the current model (tour 1: the shortest tour), drive, bin the
 /// energy per metre, refit the GP, re-plan; once a re-plan leaves the tour unchanged, keep
 /// driving it without learning until `n_tours` tours are done. `observe` sees each tour as it
 /// ends.

@@ -1,4 +1,4 @@
-//! Benchmark tours after exploration (`001` §5, Tbl. 5): the robot visits a scenario's
+//! Benchmark tours after exploration (Prágr22 §5, Tbl. 5): the robot visits a scenario's
 //! waypoints in order with the map and models frozen as the exploration left them, under one of
 //! three navigation modes, and each segment is timed in robot time.
 //!
@@ -13,10 +13,11 @@
 use crate::kernel::{MissionError, TrajectorySample};
 use crate::params::MissionParams;
 use crate::planner::{CostMode, PlanningView, nearest_where};
+use crate::tour_explorer::stuck::{reflex_stuck, stuck_signals};
 use serde::Serialize;
 use strider_core::grid::CellRay;
 use strider_core::interface::{Robot, SensorSink};
-use strider_core::{Cell, Point2, PoseStamped};
+use strider_core::{Cell, GaitId, Point2, PoseStamped};
 use strider_learn::cost_model::GaitCostModel;
 use strider_learn::signals::{FallbackTimer, InverseVelocityCost, TurningTime};
 use strider_map::ElevationMap;
@@ -96,6 +97,13 @@ struct TourSink {
     poses: u64,
 }
 
+impl TourSink {
+    /// The robot's latest position, if a pose arrived.
+    fn position(&self) -> Option<Point2> {
+        self.pose.map(|p| Point2::new(p.position.x, p.position.y))
+    }
+}
+
 impl SensorSink for TourSink {
     /// The map is frozen during a tour: no scans needed.
     fn wants_cloud(&self, _sensor: u8) -> bool {
@@ -130,89 +138,123 @@ fn straight_path(map: &ElevationMap, a: Point2, b: Point2) -> Option<Vec<Point2>
     ok.then(|| vec![a, b])
 }
 
-/// Runs the tour `waypoints` (the robot standing at the first one) under `mode`.
-pub fn run_tour<R: Robot>(
-    robot: &mut R,
-    map: &ElevationMap,
-    models: &[GaitCostModel],
-    params: &MissionParams,
-    tour: &[Point2],
+/// How a tour is driven under one navigation mode: the views it plans and chooses gaits on,
+/// and the gait in use.
+struct Navigator<'a> {
+    map: &'a ElevationMap,
     mode: NavigationMode,
-) -> Result<TourResult, MissionError> {
-    let iv = params.inverse_velocity();
-    let turns = TurningTime::new(
-        iv.window_s,
-        iv.window_s,
-        iv.rate_hz,
-        crate::tour_explorer::TURNING_RATE,
-        params.turning_baseline_s,
-    )
-    .map_err(|e| MissionError::Params(e.to_string()))?;
-    let signal = InverseVelocityCost::new(iv).map_err(|e| MissionError::Params(e.to_string()))?;
-    let mut fallback =
-        FallbackTimer::new(params.dt_fallback).map_err(|e| MissionError::Params(e.to_string()))?;
-    let mut sink = TourSink {
-        pose: None,
-        signal,
-        turns,
-        moving: false,
-        trajectory: Vec::new(),
-        poses: 0,
-    };
-    // Only the views the mode reads: flat paths for flat and gait selection, learned gaits for
-    // gait selection and learned.
-    let view = |mode| PlanningView::build(map, models, mode, params.c_loss, params.bounds.as_ref());
-    let flat = (mode != NavigationMode::Learned)
-        .then(|| view(CostMode::Flat))
-        .flatten();
-    let learned = (mode != NavigationMode::Flat)
-        .then(|| view(CostMode::Learned))
-        .flatten();
-    let (plan_view, gait_view) = match mode {
-        NavigationMode::Flat => (flat.as_ref(), None),
-        NavigationMode::GaitSelection => (flat.as_ref(), learned.as_ref()),
-        NavigationMode::Learned => (learned.as_ref(), learned.as_ref()),
-    };
-    let fastest = params.fastest_gait();
-    let rough = params.rough_gait();
-    let d = map.cell_size();
-    let r_robot = map.params().r_robot;
-    let near = strider_core::grid::disc_offsets(3.0 * r_robot, d);
-    let dt = 1.0 / params.rates.control_hz;
-    let v_min = params
-        .gaits
-        .iter()
-        .map(|g| g.v_max)
-        .fold(f64::INFINITY, f64::min)
-        .max(1e-6);
-    let mut gait = fastest;
-    robot.set_gait(gait);
-    // Let one pose arrive.
-    robot
-        .advance(dt, &mut sink)
-        .map_err(|e| MissionError::Robot(e.to_string()))?;
-    let mut segments = Vec::new();
-    for (i, w) in tour.windows(2).enumerate() {
-        let (a, b) = (w[0], w[1]);
+    /// Flat costs: the paths of the flat and gait-selection modes.
+    flat: Option<PlanningView>,
+    /// Learned costs: the gait choice of the gait-selection and learned modes, the paths of
+    /// the learned mode.
+    learned: Option<PlanningView>,
+    fastest: GaitId,
+    rough: GaitId,
+    /// The 3·r_robot disc a waypoint's nearest admissible cell is searched in.
+    near: Vec<(i32, i32)>,
+    /// Control period, s.
+    dt: f64,
+    /// The slowest gait's speed, m/s (sizes a segment's time limit).
+    v_min: f64,
+    gait: GaitId,
+}
+
+impl<'a> Navigator<'a> {
+    fn new(
+        map: &'a ElevationMap,
+        models: &[GaitCostModel],
+        params: &MissionParams,
+        mode: NavigationMode,
+    ) -> Self {
+        // Only the views the mode reads.
+        let view =
+            |mode| PlanningView::build(map, models, mode, params.c_loss, params.bounds.as_ref());
+        let flat = (mode != NavigationMode::Learned)
+            .then(|| view(CostMode::Flat))
+            .flatten();
+        let learned = (mode != NavigationMode::Flat)
+            .then(|| view(CostMode::Learned))
+            .flatten();
+        let v_min = params
+            .gaits
+            .iter()
+            .map(|g| g.v_max)
+            .fold(f64::INFINITY, f64::min)
+            .max(1e-6);
+        Self {
+            map,
+            mode,
+            flat,
+            learned,
+            fastest: params.fastest_gait(),
+            rough: params.rough_gait(),
+            near: strider_core::grid::disc_offsets(3.0 * map.params().r_robot, map.cell_size()),
+            dt: 1.0 / params.rates.control_hz,
+            v_min,
+            gait: params.fastest_gait(),
+        }
+    }
+
+    /// The view paths are planned on.
+    fn plan_view(&self) -> Option<&PlanningView> {
+        match self.mode {
+            NavigationMode::Flat | NavigationMode::GaitSelection => self.flat.as_ref(),
+            NavigationMode::Learned => self.learned.as_ref(),
+        }
+    }
+
+    /// The view gaits are chosen on (none: the reactive gait).
+    fn gait_view(&self) -> Option<&PlanningView> {
+        match self.mode {
+            NavigationMode::Flat => None,
+            NavigationMode::GaitSelection | NavigationMode::Learned => self.learned.as_ref(),
+        }
+    }
+
+    /// The waypoints from `from` to `to` under the mode.
+    fn plan(&self, from: Point2, to: Point2) -> Option<Vec<Point2>> {
+        let map = self.map;
+        if self.mode == NavigationMode::GaitSelection
+            && let Some(p) = straight_path(map, from, to)
+        {
+            return Some(p);
+        }
+        let view = self.plan_view()?;
+        // Waypoints may sit next to an obstacle or the bounds, which the footprint cannot
+        // approach: use the nearest cell where the planning grid lets the centre be.
+        let centre_ok = |c: Cell| view.grid.is_admissible(c);
+        let src = nearest_where(map.cell_at(from.x, from.y)?, &self.near, centre_ok)?;
+        let dst = nearest_where(map.cell_at(to.x, to.y)?, &self.near, centre_ok)?;
+        let cells = view.path(&mut Dijkstra::new(), src, dst)?;
+        Some(view.drive_waypoints_between(&cells, from, to))
+    }
+
+    /// The gait at `p`: the stuck reflex's rough gait, the learned choice, or the fastest.
+    fn choose_gait(&self, p: Point2, stuck: bool) -> GaitId {
+        if stuck {
+            self.rough
+        } else if let (Some(v), Some(c)) = (self.gait_view(), self.map.cell_at(p.x, p.y)) {
+            v.choose_gait(c).unwrap_or(self.gait)
+        } else {
+            self.fastest
+        }
+    }
+
+    /// Drives segment `index` from `a` to `b`, timed, replanning when the robot refuses its
+    /// path (at most five times).
+    fn drive_segment<R: Robot>(
+        &mut self,
+        robot: &mut R,
+        sink: &mut TourSink,
+        fallback: &mut FallbackTimer,
+        index: usize,
+        (a, b): (Point2, Point2),
+    ) -> Result<SegmentResult, MissionError> {
+        let d = self.map.cell_size();
+        let r_robot = self.map.params().r_robot;
         let t_start = robot.now();
-        let limit = 60.0 + 20.0 * a.dist(b) / v_min;
-        let here_pt = |s: &TourSink| s.pose.map(|p| Point2::new(p.position.x, p.position.y));
-        let plan = |from: Point2| -> Option<Vec<Point2>> {
-            if mode == NavigationMode::GaitSelection
-                && let Some(p) = straight_path(map, from, b)
-            {
-                return Some(p);
-            }
-            let view = plan_view?;
-            // Waypoints may sit next to an obstacle or the bounds, which the footprint cannot
-            // approach: use the nearest cell where the planning grid lets the centre be.
-            let centre_ok = |c: Cell| view.grid.is_admissible(c);
-            let src = nearest_where(map.cell_at(from.x, from.y)?, &near, centre_ok)?;
-            let dst = nearest_where(map.cell_at(b.x, b.y)?, &near, centre_ok)?;
-            let cells = view.path(&mut Dijkstra::new(), src, dst)?;
-            Some(view.drive_waypoints_between(&cells, from, b))
-        };
-        let mut path = here_pt(&sink).and_then(plan);
+        let limit = 60.0 + 20.0 * a.dist(b) / self.v_min;
+        let mut path = sink.position().and_then(|p| self.plan(p, b));
         let mut reached = false;
         if let Some(p) = &path {
             robot.follow(p);
@@ -222,11 +264,9 @@ pub fn run_tour<R: Robot>(
         let planned = path.is_some();
         while path.is_some() && robot.now() - t_start < limit {
             sink.moving = true;
-            let st = robot
-                .advance(dt, &mut sink)
-                .map_err(|e| MissionError::Robot(e.to_string()))?;
+            let st = robot.advance(self.dt, sink).map_err(MissionError::robot)?;
             let t = robot.now();
-            let Some(p) = here_pt(&sink) else { continue };
+            let Some(p) = sink.position() else { continue };
             if p.dist(b) <= 1.5 * d || st.idle {
                 reached = p.dist(b) <= 3.0 * d.max(r_robot);
                 break;
@@ -234,38 +274,62 @@ pub fn run_tour<R: Robot>(
             blocked_ticks += st.blocked as usize;
             if st.blocked && replans < 5 {
                 replans += 1;
-                path = plan(p);
+                path = self.plan(p, b);
                 if let Some(q) = &path {
                     robot.follow(q);
                 }
             }
-            let stuck = crate::tour_explorer::reflex_stuck(&sink.signal, &sink.turns);
-            fallback.update(t, stuck);
-            let g = if fallback.is_active(t) {
-                fallback_ticks += 1;
-                rough
-            } else if let (Some(v), Some(c)) = (gait_view, map.cell_at(p.x, p.y)) {
-                v.choose_gait(c).unwrap_or(gait)
-            } else {
-                fastest
-            };
-            if g != gait {
-                gait = g;
+            fallback.update(t, reflex_stuck(&sink.signal, &sink.turns));
+            let stuck = fallback.is_active(t);
+            fallback_ticks += stuck as usize;
+            let g = self.choose_gait(p, stuck);
+            if g != self.gait {
+                self.gait = g;
                 robot.set_gait(g);
             }
         }
         sink.moving = false;
         sink.signal.reset();
         robot.follow(&[]);
-        segments.push(SegmentResult {
-            from: i,
-            to: i + 1,
+        Ok(SegmentResult {
+            from: index,
+            to: index + 1,
             time_s: robot.now() - t_start,
             reached,
             blocked_ticks,
             fallback_ticks,
             planned,
-        });
+        })
+    }
+}
+
+/// Runs the tour `waypoints` (the robot standing at the first one) under `mode`.
+pub fn run_tour<R: Robot>(
+    robot: &mut R,
+    map: &ElevationMap,
+    models: &[GaitCostModel],
+    params: &MissionParams,
+    tour: &[Point2],
+    mode: NavigationMode,
+) -> Result<TourResult, MissionError> {
+    let (signal, turns, mut fallback) = stuck_signals(params, params.inverse_velocity().window_s)?;
+    let mut sink = TourSink {
+        pose: None,
+        signal,
+        turns,
+        moving: false,
+        trajectory: Vec::new(),
+        poses: 0,
+    };
+    let mut nav = Navigator::new(map, models, params, mode);
+    robot.set_gait(nav.gait);
+    // Let one pose arrive.
+    robot
+        .advance(nav.dt, &mut sink)
+        .map_err(MissionError::robot)?;
+    let mut segments = Vec::new();
+    for (i, w) in tour.windows(2).enumerate() {
+        segments.push(nav.drive_segment(robot, &mut sink, &mut fallback, i, (w[0], w[1]))?);
     }
     let total_s = segments.iter().map(|s| s.time_s).sum();
     let completed = segments.iter().all(|s| s.reached);

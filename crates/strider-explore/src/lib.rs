@@ -1,6 +1,6 @@
 //! # strider-explore
 //!
-//! Exploration missions with active traversal-cost learning (`001` Alg. 1 and 4, decisions
+//! Exploration missions with active traversal-cost learning (Prágr22 Alg. 1 and 4, decisions
 //! 8–9, 16, 22–25):
 //!
 //! * [`params`]: what a mission needs to know about the robot and the task ([`MissionParams`]).
@@ -10,20 +10,20 @@
 //! * [`kernel`]: the mission kernel — one robot body (pose, map, keyframes, trajectory), one
 //!   run loop, the shared manoeuvres, and the [`kernel::Strategy`] trait every method
 //!   implements.
-//! * [`tour_explorer`]: `001` Alg. 1 on the kernel (`gtsp`, `greedy`, `spatial-only`) at the
+//! * [`tour_explorer`]: Prágr22 Alg. 1 on the kernel (`gtsp`, `greedy`, `spatial-only`) at the
 //!   module rates of Tbl. 4, the sampling manoeuvre (decision 24), the stuck reflex (decision 9)
 //!   and termination (decision 25).
 //! * [`evaluate`]: benchmark tours after exploration under the flat, gait-selection and learned
-//!   navigation modes (`001` §5, Tbl. 5), timed per segment.
+//!   navigation modes (Prágr22 §5, Tbl. 5), timed per segment.
 //! * [`registry`]: every strategy by name with its paper, typed parameters and needs.
 //! * [`stats`]: summaries and Mann–Whitney U tests for comparing strategies over trials.
-//! * [`energy_tours`]: `003` energy-optimal repeated tours — a zero-mean GP of motive energy
+//! * [`energy_tours`]: MartinCorke energy-optimal repeated tours — a zero-mean GP of motive energy
 //!   per metre learnt from the power stream, waypoints ordered by the exact TSP, re-planned
 //!   after every tour until the tour stops changing.
-//! * [`escape`]: thesis C4 escape exploration with a haptic bumper and a GP force predictor.
-//! * [`rbcm_greedy`]: the `000` explorer — RBCM of GP experts on the 5-D shape + Lab
+//! * [`escape`]: Prágr23 (thesis C4) escape exploration with a haptic bumper and a GP force predictor.
+//! * [`rbcm_greedy`]: the Prágr19 explorer — RBCM of GP experts on the 5-D shape + Lab
 //!   descriptor, roll-variance cost, cost map Mcost, frontier and median-σ goals, Eq. 16.
-//! * [`navigate`]: `004` repeated start–goal navigation with a GP mixture model and a softplus
+//! * [`navigate`]: Nardi19 repeated start–goal navigation with a GP mixture model and a softplus
 //!   lower-confidence-bound planning cost.
 //!
 //! The crate reaches the robot only through [`strider_core::interface::Robot`]; it does not
@@ -41,6 +41,7 @@ pub mod rbcm_greedy;
 pub mod registry;
 pub mod shadow;
 pub mod stats;
+mod timing;
 pub mod tour_explorer;
 
 pub use kernel::{

@@ -13,14 +13,14 @@ use strider_map::rect::WorldRect;
 
 pub use strider_core::GaitSpec;
 
-/// Exploration strategy (`001` §5 and its baselines).
+/// Exploration strategy (Prágr22 §5 and its baselines).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Strategy {
     /// The paper's: spatial and cost-model goals ordered by an open GTSP tour (Alg. 1).
     Gtsp,
     /// The same goals, cheapest goal next (myopic baseline).
     Greedy,
-    /// Spatial goals only, reactive gait, learns incidentally (`001` §5.1.2 baseline).
+    /// Spatial goals only, reactive gait, learns incidentally (Prágr22 §5.1.2 baseline).
     SpatialOnly,
 }
 
@@ -68,7 +68,7 @@ impl Default for TourSolver {
     }
 }
 
-/// Module rates of `001` Tbl. 4, in Hz. Mapping follows the sensor's own rate.
+/// Module rates of Prágr22 Tbl. 4, in Hz. Mapping follows the sensor's own rate.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Rates {
     /// Spatial goal identification (Alg. 2–3), 0.33 Hz.
@@ -101,7 +101,7 @@ pub struct MissionParams {
     pub gaits: Vec<GaitSpec>,
     /// Parameters shared by the per-gait cost models.
     pub cost_model: CostModelParams,
-    /// Δt, the cost measurement window, s (`001` Tbl. 3).
+    /// Δt, the cost measurement window, s (Prágr22 Tbl. 3).
     pub window_s: f64,
     /// c_high of the tanh bound (Eq. 20).
     pub c_high: f64,

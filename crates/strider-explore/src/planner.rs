@@ -1,17 +1,20 @@
-//! Planning on the robot's own map: the merged planning grid (`001` Eq. 12–13, decision 21),
+//! Planning on the robot's own map: the merged planning grid (Prágr22 Eq. 12–13, decision 21),
 //! cheapest paths, gait choice (Alg. 4) and the exploration tour over goal sets (Alg. 1 line 17,
 //! decision 23).
 
 use crate::params::TourSolver;
+use crate::timing::ms_since;
 use rayon::prelude::*;
 use strider_core::{Cell, CellRect, GaitId, Point2};
 use strider_learn::cost_model::GaitCostModel;
 use strider_map::ElevationMap;
 use strider_map::passability::Passability;
 use strider_map::rect::WorldRect;
-use strider_plan::grid::{CostGrid, Dijkstra, all_pairs, smooth_between, smooth_path, transform};
+use strider_plan::grid::{
+    CostGrid, Dijkstra, SiteCosts, all_pairs, smooth_between, smooth_path, transform,
+};
 use strider_plan::gtsp::{self, Mode, SolverParams};
-use strider_plan::tsplib::{CostMatrix, Instance};
+use strider_plan::{CostMatrix, Instance};
 
 /// Which costs the planner uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -247,110 +250,23 @@ pub fn plan_tour(
     previous: &[(GoalKey, Cell)],
     first: Option<usize>,
 ) -> Option<Tour> {
-    // Vertex 0 = robot; then every (goal, site).
-    let mut sites = vec![robot];
-    let mut owner = vec![usize::MAX];
-    for (g, goal) in goals.iter().enumerate() {
-        for &s in &goal.sites {
-            sites.push(s);
-            owner.push(g);
-        }
-    }
     let w = std::time::Instant::now();
-    let costs = all_pairs(&view.grid, &sites);
-    let all_pairs_ms = w.elapsed().as_secs_f64() * 1e3;
-    // Keep the sites reachable from the robot.
-    let reachable: Vec<usize> = (0..sites.len())
-        .filter(|&v| v == 0 || costs.get(0, v).is_finite())
-        .collect();
-    let mut sets: Vec<Vec<usize>> = Vec::new();
-    let mut set_goal: Vec<usize> = Vec::new();
-    for (g, _) in goals.iter().enumerate() {
-        let vs: Vec<usize> = reachable
-            .iter()
-            .enumerate()
-            .filter(|&(_, &v)| owner[v] == g)
-            .map(|(i, _)| i)
-            .collect();
-        if !vs.is_empty() {
-            sets.push(vs);
-            set_goal.push(g);
-        }
-    }
-    if sets.is_empty() {
-        return None;
-    }
-    let n = reachable.len();
-    let cost_of = |a: usize, b: usize| costs.get(reachable[a], reachable[b]);
+    let inst = TourInstance::new(view, robot, goals)?;
+    let all_pairs_ms = ms_since(w);
     // The set that must come first, if that goal is still reachable.
-    let first_set = first.and_then(|g| set_goal.iter().position(|&x| x == g));
+    let first_set = first.and_then(|g| inst.set_goal.iter().position(|&x| x == g));
     let TourOrder::Gtsp(budget) = order else {
-        // Cheapest goal next: the cheapest site of any goal from the robot.
-        let mut best: Option<(f64, usize, usize)> = None;
-        for (s, vs) in sets.iter().enumerate() {
-            if first_set.is_some_and(|f| f != s) {
-                continue;
-            }
-            for &v in vs {
-                let c = cost_of(0, v);
-                if best.is_none_or(|(bc, _, _)| c < bc) {
-                    best = Some((c, s, v));
-                }
-            }
-        }
-        let (c, s, v) = best?;
+        let (cost, v) = inst.cheapest_next(first_set)?;
         return Some(Tour {
-            order: vec![(goals[set_goal[s]].key, sites[reachable[v]])],
-            cost: c,
-            vertices: n,
+            order: vec![inst.stop(goals, v)],
+            cost,
+            vertices: inst.len(),
             all_pairs_ms,
             gtsp_ms: 0.0,
         });
     };
-    // Integer costs in millimetre-cost units; unreachable pairs get a large finite penalty.
-    let finite_max = (0..n)
-        .flat_map(|a| (0..n).map(move |b| (a, b)))
-        .map(|(a, b)| cost_of(a, b))
-        .filter(|c| c.is_finite())
-        .fold(0.0, f64::max);
-    let big = ((finite_max * 1000.0).ceil() as i64 + 1) * n as i64;
-    let mut in_first = vec![false; n];
-    if let Some(f) = first_set {
-        for &v in &sets[f] {
-            in_first[v] = true;
-        }
-    }
-    let dist = CostMatrix::from_fn(n, |a, b| {
-        if a == b || b == 0 {
-            0 // the diagonal, and the open tour's free return to the robot
-        } else {
-            let c = cost_of(a, b);
-            // Leaving the robot for any set but the committed one costs more than any tour.
-            let detour = if a == 0 && first_set.is_some() && !in_first[b] {
-                big
-            } else {
-                0
-            };
-            if c.is_finite() {
-                (c * 1000.0).round() as i64 + detour
-            } else {
-                big + detour
-            }
-        }
-    });
-    let mut all_sets = vec![vec![0]];
-    all_sets.extend(sets.iter().cloned());
-    let inst = Instance::new("exploration", all_sets, dist).ok()?;
-    let mut warm = vec![0];
-    for &(key, cell) in previous {
-        let found = (1..n).find(|&v| {
-            let o = reachable[v];
-            sites[o] == cell && goals[owner[o]].key == key
-        });
-        if let Some(v) = found {
-            warm.push(v);
-        }
-    }
+    let gtsp = Instance::new("exploration", inst.all_sets(), inst.matrix(first_set)).ok()?;
+    let warm = inst.warm_start(goals, previous);
     let params = SolverParams {
         mode: Mode::Fast,
         time_limit_s: budget.time_limit_s,
@@ -363,20 +279,171 @@ pub fn plan_tour(
         ..SolverParams::default()
     };
     let w = std::time::Instant::now();
-    let sol = gtsp::solve(&inst, &params).ok()?;
-    let gtsp_ms = w.elapsed().as_secs_f64() * 1e3;
-    let mut order = Vec::new();
-    for &v in sol.tour.iter().skip_while(|&&v| v != 0).skip(1) {
-        let g = owner[reachable[v]];
-        order.push((goals[g].key, sites[reachable[v]]));
-    }
+    let sol = gtsp::solve(&gtsp, &params).ok()?;
+    let gtsp_ms = ms_since(w);
+    let order = sol
+        .tour
+        .iter()
+        .skip_while(|&&v| v != 0)
+        .skip(1)
+        .map(|&v| inst.stop(goals, v))
+        .collect();
     Some(Tour {
         order,
         cost: sol.cost as f64 / 1000.0,
-        vertices: n,
+        vertices: inst.len(),
         all_pairs_ms,
         gtsp_ms,
     })
+}
+
+/// The tour's vertices: the robot (vertex 0) and the sites reachable from it, grouped by goal.
+struct TourInstance {
+    /// The robot's cell, then every site of every goal.
+    sites: Vec<Cell>,
+    /// The goal of each of `sites` (`usize::MAX` for the robot).
+    owner: Vec<usize>,
+    /// Planning costs between all of `sites`.
+    costs: SiteCosts,
+    /// The vertices: indices into `sites` of the robot and every site reachable from it.
+    reachable: Vec<usize>,
+    /// Per goal with a reachable site, its vertices.
+    sets: Vec<Vec<usize>>,
+    /// The goal of each of `sets`.
+    set_goal: Vec<usize>,
+}
+
+impl TourInstance {
+    /// The instance of `goals` from the robot's cell; `None` when no goal is reachable.
+    fn new(view: &PlanningView, robot: Cell, goals: &[TourGoal]) -> Option<Self> {
+        let mut sites = vec![robot];
+        let mut owner = vec![usize::MAX];
+        for (g, goal) in goals.iter().enumerate() {
+            for &s in &goal.sites {
+                sites.push(s);
+                owner.push(g);
+            }
+        }
+        let costs = all_pairs(&view.grid, &sites);
+        let reachable: Vec<usize> = (0..sites.len())
+            .filter(|&v| v == 0 || costs.get(0, v).is_finite())
+            .collect();
+        let mut sets: Vec<Vec<usize>> = Vec::new();
+        let mut set_goal: Vec<usize> = Vec::new();
+        for g in 0..goals.len() {
+            let vs: Vec<usize> = reachable
+                .iter()
+                .enumerate()
+                .filter(|&(_, &v)| owner[v] == g)
+                .map(|(i, _)| i)
+                .collect();
+            if !vs.is_empty() {
+                sets.push(vs);
+                set_goal.push(g);
+            }
+        }
+        (!sets.is_empty()).then_some(Self {
+            sites,
+            owner,
+            costs,
+            reachable,
+            sets,
+            set_goal,
+        })
+    }
+
+    /// Vertices.
+    fn len(&self) -> usize {
+        self.reachable.len()
+    }
+
+    /// The planning cost from vertex `a` to vertex `b`.
+    fn cost(&self, a: usize, b: usize) -> f64 {
+        self.costs.get(self.reachable[a], self.reachable[b])
+    }
+
+    /// Vertex `v` as a stop of the tour: its goal's key and its site.
+    fn stop(&self, goals: &[TourGoal], v: usize) -> (GoalKey, Cell) {
+        let o = self.reachable[v];
+        (goals[self.owner[o]].key, self.sites[o])
+    }
+
+    /// The cheapest site of any goal from the robot (of set `first` only, when given): its
+    /// cost and vertex.
+    fn cheapest_next(&self, first: Option<usize>) -> Option<(f64, usize)> {
+        let mut best: Option<(f64, usize)> = None;
+        for (s, vs) in self.sets.iter().enumerate() {
+            if first.is_some_and(|f| f != s) {
+                continue;
+            }
+            for &v in vs {
+                let c = self.cost(0, v);
+                if best.is_none_or(|(bc, _)| c < bc) {
+                    best = Some((c, v));
+                }
+            }
+        }
+        best
+    }
+
+    /// The GTSP's sets: the robot alone, then each goal's vertices.
+    fn all_sets(&self) -> Vec<Vec<usize>> {
+        let mut all = vec![vec![0]];
+        all.extend(self.sets.iter().cloned());
+        all
+    }
+
+    /// Integer costs in millimetre-cost units; unreachable pairs get a large finite penalty,
+    /// and so does leaving the robot for any set but the committed `first`.
+    fn matrix(&self, first: Option<usize>) -> CostMatrix {
+        let n = self.len();
+        let finite_max = (0..n)
+            .flat_map(|a| (0..n).map(move |b| (a, b)))
+            .map(|(a, b)| self.cost(a, b))
+            .filter(|c| c.is_finite())
+            .fold(0.0, f64::max);
+        let big = ((finite_max * 1000.0).ceil() as i64 + 1) * n as i64;
+        let mut in_first = vec![false; n];
+        if let Some(f) = first {
+            for &v in &self.sets[f] {
+                in_first[v] = true;
+            }
+        }
+        CostMatrix::from_fn(n, |a, b| {
+            if a == b || b == 0 {
+                0 // the diagonal, and the open tour's free return to the robot
+            } else {
+                let c = self.cost(a, b);
+                // Leaving the robot for any set but the committed one costs more than any tour.
+                let detour = if a == 0 && first.is_some() && !in_first[b] {
+                    big
+                } else {
+                    0
+                };
+                if c.is_finite() {
+                    (c * 1000.0).round() as i64 + detour
+                } else {
+                    big + detour
+                }
+            }
+        })
+    }
+
+    /// The warm start: the robot, then the (goal, site) pairs of `previous` still in the
+    /// instance, in that order.
+    fn warm_start(&self, goals: &[TourGoal], previous: &[(GoalKey, Cell)]) -> Vec<usize> {
+        let mut warm = vec![0];
+        for &(key, cell) in previous {
+            let found = (1..self.len()).find(|&v| {
+                let o = self.reachable[v];
+                self.sites[o] == cell && goals[self.owner[o]].key == key
+            });
+            if let Some(v) = found {
+                warm.push(v);
+            }
+        }
+        warm
+    }
 }
 
 /// The first cell of `c` + `offsets` (sorted by distance, as [`disc_offsets`] gives them)

@@ -1,4 +1,4 @@
-//! A strategy with a passive `001` learner alongside: the per-gait traversal-cost models a
+//! A strategy with a passive Prágr22 learner alongside: the per-gait traversal-cost models a
 //! `gtsp` explorer would learn from the very data the strategy collects (its poses, gaits and
 //! scans), without a say in what the robot does. Comparisons of strategies that learn
 //! different quantities (inverse velocity, roll variance, force) use it as one yardstick: the
@@ -18,7 +18,7 @@ pub struct Shadowed<S> {
 }
 
 impl<S: Strategy> Shadowed<S> {
-    /// `main` with `learner` (a `001` explorer) learning alongside.
+    /// `main` with `learner` (a Prágr22 explorer) learning alongside.
     pub fn new(main: S, learner: TourExplorer) -> Self {
         Self { main, learner }
     }

@@ -1,7 +1,7 @@
-//! The `003` repeated-tour loop against a small kinematic rover behind the robot interface: a
+//! The MartinCorke repeated-tour loop against a small kinematic rover behind the robot interface: a
 //! skid-steered robot that turns in place and drives at 0.1 m/s, reports a noisy 30 Hz pose and
 //! a noisy 10 Hz power, and draws more power on a carpet band that lies across the straight
-//! line between the base and the far waypoint (a `003` §4 setup in which the carpet takes most of
+//! line between the base and the far waypoint (a MartinCorke §4 setup in which the carpet takes most of
 //! the straight line, so learning has something to gain).
 
 use strider_core::interface::{MotionState, Robot, SensorSink};

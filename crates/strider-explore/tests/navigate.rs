@@ -1,4 +1,4 @@
-//! `004` repeated navigation through the robot interface, on a small synthetic world with a
+//! Nardi19 repeated navigation through the robot interface, on a small synthetic world with a
 //! scripted robot: the learned runs must move from the shortest path to the cheap road, the
 //! baselines are measured like the runs, and bad inputs are errors.
 
@@ -7,7 +7,8 @@ use std::convert::Infallible;
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{Cell, CellRect, GaitId, Point2, Point3, PoseStamped, Proprioception, Rgb8};
 use strider_explore::navigate::{
-    ModelKind, NavigateError, NavigateParams, NavigationMap, Objective, drive_task, navigate,
+    ModelKind, NavigateError, NavigateParams, NavigationLog, NavigationMap, Objective, drive_task,
+    navigate,
 };
 use strider_plan::grid::Dijkstra;
 use strider_plan::grid::lcb::{LcbParams, Rectifier, lcb_grid, lcb_path};
@@ -148,6 +149,19 @@ fn least_cost(map: &NavigationMap) -> f64 {
     .experienced_cost
 }
 
+/// `navigate` on the task, a fresh robot at its start for every run.
+fn run_task(map: &NavigationMap, params: &NavigateParams) -> NavigationLog {
+    let t = task();
+    navigate(
+        map,
+        &t,
+        params,
+        |_| Ok::<_, Infallible>(robot_at(t[0])),
+        |_| {},
+    )
+    .unwrap()
+}
+
 #[test]
 fn learned_runs_leave_the_shortest_path_for_the_road() {
     for model in [ModelKind::GpMixtureAerial, ModelKind::SingleGp] {
@@ -158,15 +172,7 @@ fn learned_runs_leave_the_shortest_path_for_the_road() {
             runs: 6,
             ..NavigateParams::default()
         };
-        let t = task();
-        let log = navigate(
-            &map,
-            &t,
-            &params,
-            |_| Ok::<_, Infallible>(robot_at(t[0])),
-            |_| {},
-        )
-        .unwrap();
+        let log = run_task(&map, &params);
         assert_eq!(log.runs.len(), 6);
         let first = &log.runs[0];
         // Run 1: no observation yet, so the straight path: 7.5 m of grass at 4.0 and 3 m of
@@ -218,15 +224,7 @@ fn energy_cells_average_power_over_distance() {
         runs: 1,
         ..NavigateParams::default()
     };
-    let t = task();
-    let log = navigate(
-        &map,
-        &t,
-        &params,
-        |_| Ok::<_, Infallible>(robot_at(t[0])),
-        |_| {},
-    )
-    .unwrap();
+    let log = run_task(&map, &params);
     // Power = vibration × 1 m/s, so energy per metre is the cell's vibration value.
     for &(k, v) in &log.visited {
         let truth = vibration(rect().cell(k));

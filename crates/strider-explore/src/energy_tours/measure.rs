@@ -1,10 +1,10 @@
-//! What a tour measures: the tour energy E_t of `003` §3 and the motive energy per metre
+//! What a tour measures: the tour energy E_t of MartinCorke §3 and the motive energy per metre
 //! samples the map learns from.
 //!
 //! * **E_t** = ∫ P dt over the tour, trapezoids between consecutive power readings (total power:
 //!   motive plus hotel load, as the battery sees it).
 //! * **Energy per metre**: [`EnergyCost`] over a window of `energy_window_s`, its motive part
-//!   (E − P_h·T) / d, attributed to the window's middle pose. `003` §4 estimates the velocity from
+//!   (E − P_h·T) / d, attributed to the window's middle pose. MartinCorke §4 estimates the velocity from
 //!   the tracked position; the tracker's pose is noisy (millimetres at 30 Hz, while the robot moves
 //!   3 mm per frame), and the length of a path through raw noisy poses measures mostly the noise.
 //!   So the signal is fed a centred moving average of the pose stream over `pose_smoothing_s`:
@@ -14,7 +14,7 @@
 //!   every window is covered by smoothed poses.
 //! * **Gates**: a window during which the smoothed heading turned faster than
 //!   `turn_rate_threshold` is dropped: the robot turned in place (at a waypoint or a kink), its
-//!   energy belongs to the turn, not to the ground, and `003` models no turning energy. A window
+//!   energy belongs to the turn, not to the ground, and MartinCorke models no turning energy. A window
 //!   whose mean speed is below `min_speed_fraction` of the commanded speed is dropped by the
 //!   signal itself (its `min_distance_m`).
 

@@ -1,7 +1,7 @@
 //! The learnt map of motive energy per metre: samples binned into square cells, and the
-//! zero-mean GP of `003` Eq. 1 on the bins.
+//! zero-mean GP of MartinCorke Eq. 1 on the bins.
 //!
-//! Binning (`003` §3.1, after Plonski et al.) bounds the GP by the number of bins rather than
+//! Binning (MartinCorke §3.1, after Plonski et al.) bounds the GP by the number of bins rather than
 //! the run time: a bin holds the mean of every sample attributed to it over all tours so far.
 //! The GP is fitted to (bin centre, bin mean) with the squared exponential kernel of Eq. 1 and
 //! a zero prior mean (decision 12: unseen ground is assumed free to drive on, which draws the

@@ -1,4 +1,4 @@
-//! Planning a tour on the learnt energy map (`003` §3.2).
+//! Planning a tour on the learnt energy map (MartinCorke §3.2).
 //!
 //! * The planning grid covers the planning area at the map's cell size; cell ν costs
 //!   c(ν) = max(μ(ν), 0) + P_h / v J/m: the GP mean of the motive energy per metre (clamped at
@@ -6,7 +6,7 @@
 //!   hotel load per metre (decision 12). With no hotel load an unseen cell would cost nothing,
 //!   which a cost grid refuses, so costs are floored at [`MIN_COST`].
 //! * Costs between waypoints: 8-connected Dijkstra from each waypoint ([`Dijkstra`], edge cost =
-//!   length × cost of the source cell, decision 21). `003` uses D*, which finds the same cheapest
+//!   length × cost of the source cell, decision 21). MartinCorke uses D*, which finds the same cheapest
 //!   paths and only saves work when the map changes under a moving robot.
 //! * Order: the exact TSP (Held–Karp in [`strider_plan::gtsp`]) from the base, closed or open,
 //!   on the costs in microjoules.

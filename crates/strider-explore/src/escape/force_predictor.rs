@@ -1,4 +1,4 @@
-//! Thesis C4 §4.3–4.4: the force predictor P, a GP from a cell's appearance A(ν) to the force
+//! Prágr23 (thesis C4) §4.3–4.4: the force predictor P, a GP from a cell's appearance A(ν) to the force
 //! needed to pass through it (C4 Eq. 11–12, 17–19), and its information gain, the differential
 //! entropy of the prediction (C4 Eq. 13).
 //!

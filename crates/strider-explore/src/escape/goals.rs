@@ -1,4 +1,4 @@
-//! Thesis C4 Alg. 2 lines 9–20 and Eq. 22–26: the next exploration goal.
+//! Prágr23 (thesis C4) Alg. 2 lines 9–20 and Eq. 22–26: the next exploration goal.
 //!
 //! 1. The closest spatial goal (Eq. 23) by the cost of the cheapest path (Eq. 20–21), when any
 //!    reachable spatial goal exists (Alg. 2 lines 9–11; the goals are the Alg. 1 clusters of

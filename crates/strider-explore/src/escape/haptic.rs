@@ -1,4 +1,4 @@
-//! Thesis C4 §4.2: the haptic model, and the cell traversability fusion of C4 Eq. 4.
+//! Prágr23 (thesis C4) §4.2: the haptic model, and the cell traversability fusion of C4 Eq. 4.
 //!
 //! * [`BumperFilter`]: the bumper stream is cleaned before fusion. Non-finite and negative
 //!   readings are dropped, readings are clamped to `f_max`, and the median of the last `window`

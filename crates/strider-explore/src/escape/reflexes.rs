@@ -1,4 +1,4 @@
-//! The two haptic reflexes of thesis C4 §5.1.
+//! The two haptic reflexes of Prágr23 (thesis C4) §5.1.
 //!
 //! 1. **Push**: when the robot comes within `approach_m` (0.25 m) of an apparent obstacle it
 //!    means to pass or sample, it walks straight forward to push through it. The push ends

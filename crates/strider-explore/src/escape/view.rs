@@ -1,4 +1,4 @@
-//! The traversability view of thesis C4: the map's cells classified by C4 Eq. 4 and the planning
+//! The traversability view of Prágr23 (thesis C4): the map's cells classified by C4 Eq. 4 and the planning
 //! grid of C4 Eq. 20 built from them, as dense rasters over the area around the known map.
 //!
 //! * **Geometry** (C4 Eq. 5–6) is the map's roughness passability with t_trav = ρ_obstacle.
@@ -123,130 +123,16 @@ impl TravView {
         p: &ViewParams,
     ) -> Option<TravView> {
         let d = map.cell_size();
-        let known = map.known_bounds()?;
-        let mut rect = strider_map::rect::expand(known, (p.margin / d).ceil() as u32);
-        if let Some(b) = bounds {
-            // Obstacles just outside the bounds (the arena's walls) still shape the
-            // configuration space and the obstacle-distance cost inside.
-            let m = p.r_robot.max(p.d_obstacle) + d;
-            let lo = Cell::containing(b.min.x - m, b.min.y - m, d)?;
-            let hi = Cell::containing(b.max.x + m, b.max.y + m, d)?;
-            rect = strider_map::rect::intersection(rect, strider_map::rect::from_corners(lo, hi))?;
-        }
-        if rect.is_empty() {
-            return None;
-        }
+        let rect = view_rect(map, bounds, p)?;
         let t_trav = map.params().rho_obstacle;
-        let n = rect.len();
         let observed = map.observed_raster(rect);
-        let pass = map.passability_raster(rect);
-        let geometry: Vec<Geometry> = pass
-            .iter()
-            .zip(&observed)
-            .map(|(&ps, &o)| match (o, ps) {
-                (true, Passability::Passable) => Geometry::Traversable,
-                (true, Passability::Impassable) => Geometry::Obstacle,
-                _ => Geometry::Unobserved,
-            })
-            .collect();
-        let proud: Vec<bool> = (0..n)
+        let geometry = geometry(&map.passability_raster(rect), &observed);
+        let proud: Vec<bool> = (0..rect.len())
             .map(|k| geometry[k] == Geometry::Obstacle && is_proud(map, rect.cell(k), t_trav))
             .collect();
-        // Descriptors only where a prediction is needed.
-        let pred = predictor.filter(|p| p.is_learned());
-        let hist = pred.and_then(|pr| {
-            (pr.params().descriptor == super::force_predictor::DescriptorKind::Histogram8)
-                .then(|| c4_histograms(map, rect, pr.params().r_hist))
-        });
-        let mut obstacle: Vec<Option<ObstacleState>> = vec![None; n];
-        for k in 0..n {
-            if !proud[k] {
-                continue;
-            }
-            let c = rect.cell(k);
-            obstacle[k] = Some(if let Some(h) = haptic.get(c) {
-                ObstacleState::Haptic {
-                    force: h.force,
-                    traversable: h.force <= haptic.params().f_trav,
-                }
-            } else if let Some(pr) = pred {
-                let x = match &hist {
-                    Some(r) => r
-                        .get(c)
-                        .copied()
-                        .flatten()
-                        .map(|h| h.iter().map(|&v| v as f64).collect()),
-                    None => describe(map, c, pr.params()),
-                };
-                match x.and_then(|x| pr.predict(&x)) {
-                    Some(fp) => ObstacleState::Predicted(fp),
-                    None => ObstacleState::Unpredicted,
-                }
-            } else {
-                ObstacleState::Unpredicted
-            });
-        }
-        let f_trav = haptic.params().f_trav;
-        let mut traversable: Vec<bool> = (0..n)
-            .map(|k| {
-                let c = rect.cell(k);
-                let predicted = match obstacle[k] {
-                    Some(ObstacleState::Predicted(fp)) => Some(fp.mean <= f_trav),
-                    _ => None,
-                };
-                fuse_traversability(haptic.traversable(c), geometry[k], predicted)
-            })
-            .collect();
-        // Foot cells follow their proud neighbours.
-        let (w, h) = (rect.width as i64, rect.height as i64);
-        for k in 0..n {
-            if geometry[k] != Geometry::Obstacle || proud[k] || haptic.get(rect.cell(k)).is_some() {
-                continue;
-            }
-            let (x, y) = ((k as i64) % w, (k as i64) / w);
-            let mut any = false;
-            let mut all = true;
-            for &(di, dj) in &NEIGHBOURS8 {
-                let (nx, ny) = (x + di as i64, y + dj as i64);
-                if nx < 0 || ny < 0 || nx >= w || ny >= h {
-                    continue;
-                }
-                let nk = (ny * w + nx) as usize;
-                if proud[nk] {
-                    any = true;
-                    all &= traversable[nk];
-                }
-            }
-            traversable[k] = any && all;
-        }
-        // Configuration space and the obstacle-distance term.
-        let inflate = disc_offsets(p.r_robot, d);
-        let decay = disc_offsets(p.d_obstacle.max(p.r_robot), d);
-        let mut admissible = traversable.clone();
-        let mut cost = vec![1.0f32; n];
-        for (k, _) in traversable.iter().enumerate().filter(|&(_, &t)| !t) {
-            let (x, y) = ((k as i64) % w, (k as i64) / w);
-            for &(di, dj) in &inflate {
-                let (nx, ny) = (x + di as i64, y + dj as i64);
-                if nx >= 0 && ny >= 0 && nx < w && ny < h {
-                    admissible[(ny * w + nx) as usize] = false;
-                }
-            }
-            for &(di, dj) in &decay {
-                let (nx, ny) = (x + di as i64, y + dj as i64);
-                if nx >= 0 && ny >= 0 && nx < w && ny < h {
-                    let dist = ((di * di + dj * dj) as f64).sqrt() * d;
-                    let c = 1.0 + p.c_obstacle * (1.0 - dist / p.d_obstacle).max(0.0);
-                    let q = (ny * w + nx) as usize;
-                    cost[q] = cost[q].max(c as f32);
-                }
-            }
-        }
-        for k in 0..n {
-            if !admissible[k] {
-                cost[k] = f32::INFINITY;
-            }
-        }
+        let obstacle = obstacle_states(map, rect, &proud, haptic, predictor);
+        let traversable = traversability(rect, &geometry, &obstacle, &proud, haptic);
+        let (admissible, cost) = configuration_space(rect, &traversable, p, d);
         let grid = CostGrid::new(rect, d, cost).ok()?;
         Some(TravView {
             rect,
@@ -257,7 +143,7 @@ impl TravView {
             traversable,
             admissible,
             grid,
-            f_trav,
+            f_trav: haptic.params().f_trav,
             threshold: predictor.map_or(f64::INFINITY, |p| p.params().entropy_threshold),
         })
     }
@@ -321,6 +207,161 @@ impl TravView {
         }
         s
     }
+}
+
+/// The view's rectangle: the known map grown by `margin`, clipped to `bounds` grown by the
+/// obstacle-distance reach (obstacles just outside the bounds, the arena's walls, still shape
+/// the configuration space and the obstacle-distance cost inside).
+fn view_rect(map: &ElevationMap, bounds: Option<&WorldRect>, p: &ViewParams) -> Option<CellRect> {
+    let d = map.cell_size();
+    let known = map.known_bounds()?;
+    let mut rect = strider_map::rect::expand(known, (p.margin / d).ceil() as u32);
+    if let Some(b) = bounds {
+        let m = p.r_robot.max(p.d_obstacle) + d;
+        let lo = Cell::containing(b.min.x - m, b.min.y - m, d)?;
+        let hi = Cell::containing(b.max.x + m, b.max.y + m, d)?;
+        rect = strider_map::rect::intersection(rect, strider_map::rect::from_corners(lo, hi))?;
+    }
+    (!rect.is_empty()).then_some(rect)
+}
+
+/// C4 Eq. 5 geometry of each cell from its passability and whether it was observed.
+fn geometry(pass: &[Passability], observed: &[bool]) -> Vec<Geometry> {
+    pass.iter()
+        .zip(observed)
+        .map(|(&ps, &o)| match (o, ps) {
+            (true, Passability::Passable) => Geometry::Traversable,
+            (true, Passability::Impassable) => Geometry::Obstacle,
+            _ => Geometry::Unobserved,
+        })
+        .collect()
+}
+
+/// What Eq. 4 says of each apparent obstacle (`proud`) cell: haptic ground truth where
+/// measured, else the learned predictor's prediction (descriptors only where one is needed).
+fn obstacle_states(
+    map: &ElevationMap,
+    rect: CellRect,
+    proud: &[bool],
+    haptic: &HapticModel,
+    predictor: Option<&ForcePredictor>,
+) -> Vec<Option<ObstacleState>> {
+    let pred = predictor.filter(|p| p.is_learned());
+    let hist = pred.and_then(|pr| {
+        (pr.params().descriptor == super::force_predictor::DescriptorKind::Histogram8)
+            .then(|| c4_histograms(map, rect, pr.params().r_hist))
+    });
+    let mut obstacle: Vec<Option<ObstacleState>> = vec![None; rect.len()];
+    for (k, state) in obstacle.iter_mut().enumerate() {
+        if !proud[k] {
+            continue;
+        }
+        let c = rect.cell(k);
+        *state = Some(if let Some(h) = haptic.get(c) {
+            ObstacleState::Haptic {
+                force: h.force,
+                traversable: h.force <= haptic.params().f_trav,
+            }
+        } else if let Some(pr) = pred {
+            let x = match &hist {
+                Some(r) => r
+                    .get(c)
+                    .copied()
+                    .flatten()
+                    .map(|h| h.iter().map(|&v| v as f64).collect()),
+                None => describe(map, c, pr.params()),
+            };
+            match x.and_then(|x| pr.predict(&x)) {
+                Some(fp) => ObstacleState::Predicted(fp),
+                None => ObstacleState::Unpredicted,
+            }
+        } else {
+            ObstacleState::Unpredicted
+        });
+    }
+    obstacle
+}
+
+/// p(ν) of Eq. 4 for every cell; a foot cell (impassable, not proud, not measured) follows
+/// its proud neighbours: traversable when it has one and every one is.
+fn traversability(
+    rect: CellRect,
+    geometry: &[Geometry],
+    obstacle: &[Option<ObstacleState>],
+    proud: &[bool],
+    haptic: &HapticModel,
+) -> Vec<bool> {
+    let f_trav = haptic.params().f_trav;
+    let mut traversable: Vec<bool> = (0..rect.len())
+        .map(|k| {
+            let predicted = match obstacle[k] {
+                Some(ObstacleState::Predicted(fp)) => Some(fp.mean <= f_trav),
+                _ => None,
+            };
+            fuse_traversability(haptic.traversable(rect.cell(k)), geometry[k], predicted)
+        })
+        .collect();
+    let (w, h) = (rect.width as i64, rect.height as i64);
+    for k in 0..rect.len() {
+        if geometry[k] != Geometry::Obstacle || proud[k] || haptic.get(rect.cell(k)).is_some() {
+            continue;
+        }
+        let (x, y) = ((k as i64) % w, (k as i64) / w);
+        let mut any = false;
+        let mut all = true;
+        for &(di, dj) in &NEIGHBOURS8 {
+            let (nx, ny) = (x + di as i64, y + dj as i64);
+            if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                continue;
+            }
+            let nk = (ny * w + nx) as usize;
+            if proud[nk] {
+                any = true;
+                all &= traversable[nk];
+            }
+        }
+        traversable[k] = any && all;
+    }
+    traversable
+}
+
+/// The configuration space (no untraversable cell within r_robot) and the Eq. 20 per-metre
+/// cost with the obstacle-distance term (+∞ where inadmissible), for cell size `d`.
+fn configuration_space(
+    rect: CellRect,
+    traversable: &[bool],
+    p: &ViewParams,
+    d: f64,
+) -> (Vec<bool>, Vec<f32>) {
+    let (w, h) = (rect.width as i64, rect.height as i64);
+    let inflate = disc_offsets(p.r_robot, d);
+    let decay = disc_offsets(p.d_obstacle.max(p.r_robot), d);
+    let mut admissible = traversable.to_vec();
+    let mut cost = vec![1.0f32; rect.len()];
+    for (k, _) in traversable.iter().enumerate().filter(|&(_, &t)| !t) {
+        let (x, y) = ((k as i64) % w, (k as i64) / w);
+        for &(di, dj) in &inflate {
+            let (nx, ny) = (x + di as i64, y + dj as i64);
+            if nx >= 0 && ny >= 0 && nx < w && ny < h {
+                admissible[(ny * w + nx) as usize] = false;
+            }
+        }
+        for &(di, dj) in &decay {
+            let (nx, ny) = (x + di as i64, y + dj as i64);
+            if nx >= 0 && ny >= 0 && nx < w && ny < h {
+                let dist = ((di * di + dj * dj) as f64).sqrt() * d;
+                let c = 1.0 + p.c_obstacle * (1.0 - dist / p.d_obstacle).max(0.0);
+                let q = (ny * w + nx) as usize;
+                cost[q] = cost[q].max(c as f32);
+            }
+        }
+    }
+    for (c, &a) in cost.iter_mut().zip(&admissible) {
+        if !a {
+            *c = f32::INFINITY;
+        }
+    }
+    (admissible, cost)
 }
 
 #[cfg(test)]

@@ -24,6 +24,24 @@ pub struct BodyParams {
     pub time_limit_s: f64,
 }
 
+impl BodyParams {
+    /// The body of a strategy on `map`, with the robot's sensors, the task's bounds and time
+    /// limit.
+    pub fn new(
+        map: MapParams,
+        sensor_hfov_deg: &[f64],
+        bounds: Option<WorldRect>,
+        time_limit_s: f64,
+    ) -> Self {
+        Self {
+            map,
+            sensor_hfov_deg: sensor_hfov_deg.to_vec(),
+            bounds,
+            time_limit_s,
+        }
+    }
+}
+
 /// The robot as every strategy sees it (see the module docs).
 pub struct Body {
     params: BodyParams,

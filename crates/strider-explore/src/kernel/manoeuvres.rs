@@ -1,6 +1,8 @@
 //! What every strategy's robot does the same way: modules that run at a rate, manoeuvres that
 //! run to a deadline, and the look-around at a reached spatial goal.
 
+use super::body::Body;
+use super::strategy::Actuators;
 use strider_core::interface::MotionState;
 use strider_core::{Point2, PoseStamped};
 
@@ -71,6 +73,20 @@ pub fn look_around(pose: &PoseStamped, cell_size: f64) -> Vec<Point2> {
             Point2::new(pose.position.x + r * a.cos(), pose.position.y + r * a.sin())
         })
         .collect()
+}
+
+/// Starts the look-around at a reached spatial goal ([`look_around`]) for a robot whose sensors
+/// do not see all around: the manoeuvre, or `None` when the robot sees all around (or has no
+/// pose) and nothing was commanded.
+pub fn start_look_around(body: &Body, robot: &mut dyn Actuators, t: f64) -> Option<Manoeuvre> {
+    if body.sees_all_around() {
+        return None;
+    }
+    let pose = body.pose()?;
+    robot.follow(&look_around(&pose, body.map().cell_size()));
+    Some(Manoeuvre {
+        until: t + LOOK_AROUND_S,
+    })
 }
 
 #[cfg(test)]

@@ -10,71 +10,26 @@
 //! the body, so the same loop runs on a simulator, a robot or a recorded log.
 
 pub mod body;
+pub mod goals;
 pub mod keyframes;
 pub mod manoeuvres;
 pub mod record;
+pub mod snapshot;
+pub mod strategy;
 
 pub use body::{Body, BodyParams, lattice_map_params};
-pub use manoeuvres::{Every, LOOK_AROUND_S, Manoeuvre, look_around};
+pub use goals::drop_visited;
+pub use manoeuvres::{Every, LOOK_AROUND_S, Manoeuvre, look_around, start_look_around};
 pub use record::{
     GoalCounts, MissionError, MissionProgress, RunRecord, Termination, TrajectorySample,
 };
+pub use snapshot::{map_layers, site, site_at, spatial_goal_set, unknown_layer};
+pub use strategy::{Actuators, Strategy};
 
 use std::time::Instant;
 use strider_core::interface::{MotionState, Robot, SensorSink};
-use strider_core::snapshot::{Layers, Snapshot};
-use strider_core::{Cell, GaitId, Point2, Point3, PointCloud, PoseStamped, Proprioception};
-
-/// The commands a strategy gives the robot.
-pub trait Actuators {
-    /// Current robot time, s.
-    fn now(&self) -> f64;
-    /// Replaces the path being followed (world waypoints, first one nearest the robot).
-    fn follow(&mut self, path: &[Point2]);
-    /// Selects the gait used from now on.
-    fn set_gait(&mut self, gait: GaitId);
-}
-
-/// An exploration method on the kernel: what it measures from the sensor stream, and the
-/// goals, tour, path and gait it decides from the body's state.
-pub trait Strategy {
-    /// The strategy's registry name (e.g. `gtsp`).
-    fn name(&self) -> &'static str;
-    /// The control tick's rate, Hz.
-    fn control_hz(&self) -> f64;
-    /// The gait commanded before the first tick (`None`: the robot's own).
-    fn initial_gait(&self) -> Option<GaitId> {
-        None
-    }
-    /// Called once before the first tick, at robot time `t0`.
-    fn start(&mut self, _body: &mut Body, _t0: f64) {}
-    /// Called before each advance with the motion state of the previous tick and its time.
-    fn before_advance(&mut self, _body: &Body, _state: MotionState, _t: f64) {}
-    /// A pose with a finite position and heading, after the body took it.
-    fn on_pose(&mut self, _body: &Body, _pose: &PoseStamped) {}
-    /// Proprioceptive readings.
-    fn on_proprioception(&mut self, _body: &Body, _p: &Proprioception) {}
-    /// One control tick at robot time `t` after the robot advanced: the modules that are due,
-    /// then the decisions. `state` persists across ticks (a strategy may clear its flags once
-    /// it acted on them). `Some` ends the mission.
-    fn tick(
-        &mut self,
-        body: &mut Body,
-        robot: &mut dyn Actuators,
-        state: &mut MotionState,
-        t: f64,
-    ) -> Option<Termination>;
-    /// One tick of ingesting a recorded log ([`Mission::ingest`]): measurement and learning
-    /// only, no goals, planning or commands. Default: nothing beyond the body's mapping.
-    fn ingest_tick(&mut self, _body: &mut Body, _state: &mut MotionState, _t: f64) {}
-    /// Called once after the last tick at robot time `t` (the robot is stopped).
-    fn finish(&mut self, _body: &mut Body, _t: f64) {}
-    /// The strategy's part of the progress display.
-    fn goal_counts(&self) -> GoalCounts;
-    /// The strategy's part of a [`Snapshot`]: its goals and tour and, when `snap.layers` is
-    /// present, its models' layers over `layers.rect` and the costs measured so far.
-    fn describe(&self, body: &Body, snap: &mut Snapshot);
-}
+use strider_core::snapshot::Snapshot;
+use strider_core::{GaitId, Point2, PointCloud, PoseStamped, Proprioception};
 
 /// A strategy made from its own parameter struct, which also says what body it needs.
 pub trait FromParams: Strategy + Sized {
@@ -88,53 +43,6 @@ pub trait FromParams: Strategy + Sized {
     fn mission(params: Self::Params) -> Result<Mission<Self>, MissionError> {
         let body = Self::body_params(&params);
         Mission::new(body, Self::from_params(params)?)
-    }
-}
-
-/// A boxed strategy is a strategy: missions of strategies chosen at run time, and of
-/// strategies written outside this crate.
-impl<S: Strategy + ?Sized> Strategy for Box<S> {
-    fn name(&self) -> &'static str {
-        (**self).name()
-    }
-    fn control_hz(&self) -> f64 {
-        (**self).control_hz()
-    }
-    fn initial_gait(&self) -> Option<GaitId> {
-        (**self).initial_gait()
-    }
-    fn start(&mut self, body: &mut Body, t0: f64) {
-        (**self).start(body, t0)
-    }
-    fn before_advance(&mut self, body: &Body, state: MotionState, t: f64) {
-        (**self).before_advance(body, state, t)
-    }
-    fn on_pose(&mut self, body: &Body, pose: &PoseStamped) {
-        (**self).on_pose(body, pose)
-    }
-    fn on_proprioception(&mut self, body: &Body, p: &Proprioception) {
-        (**self).on_proprioception(body, p)
-    }
-    fn tick(
-        &mut self,
-        body: &mut Body,
-        robot: &mut dyn Actuators,
-        state: &mut MotionState,
-        t: f64,
-    ) -> Option<Termination> {
-        (**self).tick(body, robot, state, t)
-    }
-    fn ingest_tick(&mut self, body: &mut Body, state: &mut MotionState, t: f64) {
-        (**self).ingest_tick(body, state, t)
-    }
-    fn finish(&mut self, body: &mut Body, t: f64) {
-        (**self).finish(body, t)
-    }
-    fn goal_counts(&self) -> GoalCounts {
-        (**self).goal_counts()
-    }
-    fn describe(&self, body: &Body, snap: &mut Snapshot) {
-        (**self).describe(body, snap)
     }
 }
 
@@ -226,9 +134,9 @@ impl<S: Strategy> Mission<S> {
     ///
     /// The loop's parallel parts (fusion, learning, all-pairs costs, and the simulator's ray
     /// casting) use rayon's pool. Called from outside the pool, the calling thread sleeps
-    /// through each of them while the pool's idle threads spin between them; calling it on a
-    /// pool thread (`rayon::scope(|_| mission.run(robot))`, as `strider run` does) was 13 %
-    /// faster on two cores, with the same result.
+    /// through each of them while the pool's idle threads spin between them; called on a pool
+    /// thread (`rayon::scope(|_| mission.run(robot))`, as `strider run` does) it runs faster on
+    /// few cores, with the same result.
     pub fn run<R: Robot>(&mut self, robot: &mut R) -> Result<&RunRecord, MissionError> {
         self.run_watched(robot, |_, _| {})
     }
@@ -287,9 +195,7 @@ impl<S: Strategy> Mission<S> {
                 body: &mut self.body,
                 strategy: &mut self.strategy,
             };
-            state = robot
-                .advance(dt, &mut sink)
-                .map_err(|e| MissionError::Robot(e.to_string()))?;
+            state = robot.advance(dt, &mut sink).map_err(MissionError::robot)?;
             self.body.robot_wall_s += w.elapsed().as_secs_f64();
             let t = robot.now();
             self.now = t;
@@ -328,28 +234,7 @@ impl<S: Strategy> Mission<S> {
     /// the known part of the map (a pass over it) and the measured costs.
     pub fn snapshot(&self, layers: bool) -> Snapshot {
         let map = self.body.map();
-        // Asked for layers before anything is mapped: an empty rectangle, so a recorder still
-        // knows the layers were due.
-        let empty = strider_core::CellRect::new(Cell::new(0, 0), 0, 0);
-        let layers = layers
-            .then(|| map.known_bounds().unwrap_or(empty))
-            .map(|rect| Layers {
-                rect,
-                elevation: map.elevation_raster(rect),
-                elevation_variance: map.variance_raster(rect),
-                color: map
-                    .color_raster(rect)
-                    .into_iter()
-                    .map(|c| c.map_or([0, 0, 0], |c| c.0))
-                    .collect(),
-                observed: map.observed_raster(rect),
-                passability: map
-                    .passability_raster(rect)
-                    .into_iter()
-                    .map(|p| p as u8)
-                    .collect(),
-                models: Vec::new(),
-            });
+        let layers = layers.then(|| map_layers(map));
         let mut snap = Snapshot {
             time_s: self.now,
             strategy: self.strategy.name().to_string(),
@@ -379,14 +264,6 @@ impl<S: Strategy> Mission<S> {
             gait: &mut self.gait,
         }
     }
-}
-
-/// The centre of `cell` at the map's elevation there (0 where unknown), for snapshots.
-pub fn site(body: &Body, cell: Cell) -> Point3 {
-    let map = body.map();
-    let p = cell.center(map.cell_size());
-    let z = map.elevation(cell).filter(|z| z.is_finite()).unwrap_or(0.0) as f64;
-    Point3::new(p.x, p.y, z)
 }
 
 /// The robot's commands, remembered for observers.

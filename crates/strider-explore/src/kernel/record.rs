@@ -23,6 +23,18 @@ pub enum MissionError {
     Params(String),
 }
 
+impl MissionError {
+    /// Invalid parameters, with the reason a parameter check gave.
+    pub fn params(why: impl std::fmt::Display) -> Self {
+        Self::Params(why.to_string())
+    }
+
+    /// The robot failed, as its error says.
+    pub fn robot(why: impl std::fmt::Display) -> Self {
+        Self::Robot(why.to_string())
+    }
+}
+
 /// One logged trajectory sample.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct TrajectorySample {

@@ -1,10 +1,10 @@
-//! The traversal cost map Mcost of `000` §IV-C (Eq. 11–12) and the cost-goal score (Eq. 15).
+//! The traversal cost map Mcost of Prágr19 §IV-C (Eq. 11–12) and the cost-goal score (Eq. 15).
 //!
 //! Mcost has its own resolution (10 cm on `lab-track`, about one gait cycle's step). Each Mcost
 //! cell ν′ is traversable when the elevation-map cell ν nearest its centre is admissible
 //! (passable by step height and outside the δ_impassable inflation, decision 4) and reachable
 //! from the robot; its mean and confidence are the committee's prediction at desc(ν), the 5-D
-//! descriptor of `000` Eq. 10 (decision 7). A traversable cell whose descriptor cannot be formed
+//! descriptor of Prágr19 Eq. 10 (decision 7). A traversable cell whose descriptor cannot be formed
 //! yet (less than half of its δ_desc disc known) gets the prior: unknown terrain is uncertain.
 //!
 //! Only the newest expert of the committee ever changes (decision 15), so the predictions of the
@@ -287,7 +287,7 @@ impl CostMap {
         best.map(|(_, q)| q)
     }
 
-    /// The cost-goal score of `000` Eq. 15 for every traversable cell: the median σ over the
+    /// The cost-goal score of Prágr19 Eq. 15 for every traversable cell: the median σ over the
     /// traversable cells within `delta_score` metres (the cell itself included); NaN elsewhere.
     pub fn scores(&self, delta_score: f64) -> Vec<f64> {
         let offs = strider_core::grid::disc_offsets(delta_score, self.cell_size);

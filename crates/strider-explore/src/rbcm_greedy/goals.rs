@@ -1,4 +1,4 @@
-//! Goal selection of `000` Alg. 1: the cheapest spatial goal (getBestSpatialGoal, Eq. 13–14),
+//! Goal selection of Prágr19 Alg. 1: the cheapest spatial goal (getBestSpatialGoal, Eq. 13–14),
 //! the best cost goal (getBestCostGoal, Eq. 15) and the decision rule (Eq. 16).
 
 use super::cost_map::CostMap;
@@ -31,7 +31,7 @@ pub struct Goal {
     pub value: f64,
 }
 
-/// Frontier representatives of `000` Eq. 13 on the elevation map: frontier cells (reachable,
+/// Frontier representatives of Prágr19 Eq. 13 on the elevation map: frontier cells (reachable,
 /// admissible, next to unknown, inside the bounds, at least r_spatial from the robot) that are
 /// not within `r_visited` of an already reached spatial goal, split per 8-connected component
 /// into n_r = 1 + ⌊f/D + 0.5⌋ representatives. Returns their centres.
@@ -121,7 +121,7 @@ pub fn best_cost_goal(
     })
 }
 
-/// The decision rule of `000` Eq. 16: the cost goal when its score exceeds λ_score, else the
+/// The decision rule of Prágr19 Eq. 16: the cost goal when its score exceeds λ_score, else the
 /// spatial goal if any, else none (exploration ends).
 pub fn select_goal(cost: Option<Goal>, spatial: Option<Goal>, lambda_score: f64) -> Option<Goal> {
     match cost {

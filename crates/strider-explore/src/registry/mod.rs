@@ -49,15 +49,15 @@ pub struct RobotSpec {
 /// The strategies of the registry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum StrategyId {
-    /// `001` Alg. 1: spatial and cost-model goals in an open GTSP tour.
+    /// Prágr22 Alg. 1: spatial and cost-model goals in an open GTSP tour.
     Gtsp,
     /// The same goals, cheapest next.
     Greedy,
     /// Spatial goals only, reactive gait.
     SpatialOnly,
-    /// `000` Alg. 1: RBCM of GP experts, variance-driven greedy goals.
+    /// Prágr19 Alg. 1: RBCM of GP experts, variance-driven greedy goals.
     RbcmGreedy,
-    /// Thesis C4 Alg. 2: learning the force to push through apparent obstacles.
+    /// Prágr23 Alg. 2: learning the force to push through apparent obstacles.
     Escape,
     /// C4's baseline: every apparent obstacle is rigid.
     Rigid,
@@ -290,7 +290,7 @@ impl Configured {
         }
     }
 
-    /// The `001` explorer's mission parameters (only for `gtsp`, `greedy`, `spatial-only`).
+    /// The Prágr22 explorer's mission parameters (only for `gtsp`, `greedy`, `spatial-only`).
     pub fn tour_mission(
         &self,
         robot: &RobotSpec,

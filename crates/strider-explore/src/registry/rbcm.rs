@@ -1,4 +1,4 @@
-//! The parameters of the `000` explorer (`rbcm-greedy`): `000` Table I and §V as defaults.
+//! The parameters of the Prágr19 explorer (`rbcm-greedy`): Prágr19 Table I and §V as defaults.
 
 use super::RobotSpec;
 use super::typed::{ParamDoc, ParamError, StrategyParams, check};
@@ -76,73 +76,69 @@ impl Default for RbcmTable {
     }
 }
 
-const fn doc(key: &'static str, unit: &'static str, doc: &'static str) -> ParamDoc {
-    ParamDoc { key, unit, doc }
-}
-
 impl StrategyParams for RbcmTable {
     const DOCS: &'static [ParamDoc] = &[
-        doc(
+        ParamDoc::new(
             "gait",
             "",
             "gait walked throughout; auto: adaptive if the robot has it, else its first (Prágr19 §V)",
         ),
-        doc("mcost_cell", "m", "Mcost cell size (Prágr19 §V)"),
-        doc(
+        ParamDoc::new("mcost_cell", "m", "Mcost cell size (Prágr19 §V)"),
+        ParamDoc::new(
             "delta_desc",
             "m",
             "descriptor neighbourhood δ_desc (Prágr19 Eq. 7-10)",
         ),
-        doc(
+        ParamDoc::new(
             "delta_score",
             "m",
             "score neighbourhood δ_score (Prágr19 Eq. 15)",
         ),
-        doc(
+        ParamDoc::new(
             "lambda_score",
             "",
             "λ_score of Eq. 16 (Prágr19 Tbl. I, adaptive gait)",
         ),
-        doc(
+        ParamDoc::new(
             "lambda_score_by_gait",
             "",
             "λ_score per gait name, e.g. { regular = 0.0005 } (Prágr19 Tbl. I)",
         ),
-        doc("m_max", "pairs", "pairs per expert m_max (Prágr19 Tbl. I)"),
-        doc(
+        ParamDoc::new("m_max", "pairs", "pairs per expert m_max (Prágr19 Tbl. I)"),
+        ParamDoc::new(
             "m_min",
             "pairs",
             "pairs an expert needs to predict, m_min (Prágr19 Tbl. I)",
         ),
-        doc(
+        ParamDoc::new(
             "gp_lengthscale",
             "",
             "initial lengthscale of each expert, exponential kernel (Prágr19 §V-A)",
         ),
-        doc(
+        ParamDoc::new(
             "gp_signal_variance",
             "rad⁴",
             "initial signal variance of each expert (ours, sized to the roll variances)",
         ),
-        doc(
+        ParamDoc::new(
             "gp_noise_variance",
             "rad⁴",
             "initial noise variance of each expert (ours, sized to the roll variances)",
         ),
-        doc("cost_window_s", "s", "roll-variance window (Prágr19 §IV-B)"),
-        doc(
+        ParamDoc::new("cost_window_s", "s", "roll-variance window (Prágr19 §IV-B)"),
+        ParamDoc::new(
             "sample_period_s",
             "s",
             "one pair kept per this much walking; auto: 60 s / m_max (Prágr19 §V)",
         ),
-        doc(
+        ParamDoc::new(
             "carrot_m",
             "m",
             "follow-the-carrot waypoint spacing (Prágr19 §V)",
         ),
-        doc("plan_hz", "Hz", "planning cycle rate (ours)"),
-        doc("control_hz", "Hz", "control rate (ours)"),
-        doc(
+        ParamDoc::new("plan_hz", "Hz", "planning cycle rate (ours)"),
+        ParamDoc::new("control_hz", "Hz", "control rate (ours)"),
+        ParamDoc::new(
             "r_spatial",
             "m",
             "frontier exclusion radius around the robot; auto: the map's (Prágr19 Eq. 13)",
@@ -150,7 +146,7 @@ impl StrategyParams for RbcmTable {
     ];
 
     fn validate(&self) -> Result<(), ParamError> {
-        for (k, v) in [
+        check::all_positive(&[
             ("mcost_cell", self.mcost_cell),
             ("delta_desc", self.delta_desc),
             ("delta_score", self.delta_score),
@@ -160,9 +156,7 @@ impl StrategyParams for RbcmTable {
             ("cost_window_s", self.cost_window_s),
             ("carrot_m", self.carrot_m),
             ("plan_hz", self.plan_hz),
-        ] {
-            check::positive(k, v)?;
-        }
+        ])?;
         check::within("mcost_cell", self.mcost_cell, 0.01, 10.0)?;
         check::within("control_hz", self.control_hz, 1.0, 1000.0)?;
         check::non_negative("lambda_score", self.lambda_score)?;
@@ -201,10 +195,7 @@ impl RbcmTable {
     pub fn explorer_params(&self, robot: &RobotSpec) -> Result<RbcmGreedyParams, ParamError> {
         let gi = self.gait_index(robot)?;
         let Some(g) = robot.gaits.get(gi) else {
-            return Err(ParamError::new(
-                "gait",
-                "cannot be chosen: the robot has no gait",
-            ));
+            return Err(ParamError::no_gait());
         };
         for name in self.lambda_score_by_gait.keys() {
             if !robot.gaits.iter().any(|g| &g.name == name) {

@@ -1,4 +1,4 @@
-//! The parameters of the `001` explorers (`gtsp`, `greedy`, `spatial-only`): `001` Table 3
+//! The parameters of the Prágr22 explorers (`gtsp`, `greedy`, `spatial-only`): Prágr22 Table 3
 //! (left column) and Table 4 as defaults, our own design choices with today's behaviour.
 
 use super::RobotSpec;
@@ -131,141 +131,141 @@ impl Default for TourParams {
 
 impl StrategyParams for TourParams {
     const DOCS: &'static [ParamDoc] = &[
-        doc(
+        ParamDoc::new(
             "lengthscale",
             "",
             "GP lengthscale l over the 9-colour histogram (Prágr22 Tbl. 3)",
         ),
-        doc("sigma_s", "", "GP signal variance σ_s (Prágr22 Tbl. 3)"),
-        doc(
+        ParamDoc::new("sigma_s", "", "GP signal variance σ_s (Prágr22 Tbl. 3)"),
+        ParamDoc::new(
             "sigma_eps",
             "",
             "GP noise standard deviation σ_ε (Prágr22 Tbl. 3)",
         ),
-        doc(
+        ParamDoc::new(
             "sigma_sense",
             "",
             "σ_sense of the per-cell cost fusion (Prágr22 Tbl. 3)",
         ),
-        doc(
+        ParamDoc::new(
             "sigma_0_sq",
             "",
             "σ_0² of the per-cell cost fusion (Prágr22 Tbl. 3)",
         ),
-        doc(
+        ParamDoc::new(
             "n_min",
             "cells",
             "cells a terrain class needs before it is learned (Prágr22 Tbl. 3)",
         ),
-        doc("m_t", "", "measurements kept per cell (Prágr22 Tbl. 3)"),
-        doc(
+        ParamDoc::new("m_t", "", "measurements kept per cell (Prágr22 Tbl. 3)"),
+        ParamDoc::new(
             "d_s",
             "",
             "learning-set spacing in descriptor space (Prágr22 Tbl. 3)",
         ),
-        doc("c_max", "", "largest cost (Prágr22 Tbl. 3)"),
-        doc(
+        ParamDoc::new("c_max", "", "largest cost (Prágr22 Tbl. 3)"),
+        ParamDoc::new(
             "n_erode_steps",
             "",
             "erosion steps of the class masks (Prágr22 Alg. 10)",
         ),
-        doc(
+        ParamDoc::new(
             "n_dilate_steps",
             "",
             "dilation steps of the class masks (Prágr22 Alg. 10)",
         ),
-        doc(
+        ParamDoc::new(
             "n_dilate_size",
             "cells",
             "dilation size of the class masks (Prágr22 Alg. 10)",
         ),
-        doc("igng_eps_winner", "", "IGNG ε_winner (Prágr22 Tbl. 3)"),
-        doc(
+        ParamDoc::new("igng_eps_winner", "", "IGNG ε_winner (Prágr22 Tbl. 3)"),
+        ParamDoc::new(
             "igng_eps_neighbour",
             "",
             "IGNG ε_neighbour (Prágr22 Tbl. 3)",
         ),
-        doc("igng_age_mature", "", "IGNG age_mature (Prágr22 Tbl. 3)"),
-        doc("igng_age_max", "", "IGNG age_max (Prágr22 Tbl. 3)"),
-        doc("igng_batch", "", "IGNG batch size (Prágr22 Tbl. 3)"),
-        doc(
+        ParamDoc::new("igng_age_mature", "", "IGNG age_mature (Prágr22 Tbl. 3)"),
+        ParamDoc::new("igng_age_max", "", "IGNG age_max (Prágr22 Tbl. 3)"),
+        ParamDoc::new("igng_batch", "", "IGNG batch size (Prágr22 Tbl. 3)"),
+        ParamDoc::new(
             "delta_t",
             "s",
             "Δt, the cost measurement window (Prágr22 Tbl. 3)",
         ),
-        doc(
+        ParamDoc::new(
             "c_high",
             "",
             "c_high of the tanh bound, Eq. 20 (Prágr22 Tbl. 3)",
         ),
-        doc(
+        ParamDoc::new(
             "c_loss",
             "",
             "c_loss of the distance transform (Prágr22 Tbl. 3)",
         ),
-        doc(
+        ParamDoc::new(
             "dt_sample",
             "s",
             "Δt_sample, the sampling manoeuvre (Prágr22 Tbl. 3)",
         ),
-        doc(
+        ParamDoc::new(
             "dt_fallback",
             "s",
             "Δt_fallback, the stuck reflex (Prágr22 Tbl. 3)",
         ),
-        doc(
+        ParamDoc::new(
             "turning_baseline_s",
             "s",
             "baseline of the heading rate that tells turning from walking (ours)",
         ),
-        doc(
+        ParamDoc::new(
             "max_sites_per_goal",
             "",
             "sampling sites kept per cost goal in the GTSP (ours)",
         ),
-        doc(
+        ParamDoc::new(
             "spatial_hz",
             "Hz",
             "spatial goal identification (Prágr22 Tbl. 4)",
         ),
-        doc(
+        ParamDoc::new(
             "learning_hz",
             "Hz",
             "learning and cost goals (Prágr22 Tbl. 4)",
         ),
-        doc("tour_hz", "Hz", "tour and path planning (Prágr22 Tbl. 4)"),
-        doc(
+        ParamDoc::new("tour_hz", "Hz", "tour and path planning (Prágr22 Tbl. 4)"),
+        ParamDoc::new(
             "control_hz",
             "Hz",
             "gait choice and motion (Prágr22 Tbl. 4)",
         ),
-        doc(
+        ParamDoc::new(
             "gtsp_time_limit_s",
             "s",
             "wall-clock budget of one GTSP solve (ours)",
         ),
-        doc("gtsp_max_trials", "", "restarts of one GTSP solve (ours)"),
-        doc(
+        ParamDoc::new("gtsp_max_trials", "", "restarts of one GTSP solve (ours)"),
+        ParamDoc::new(
             "gtsp_max_iterations",
             "",
             "iterations per restart of one GTSP solve (ours)",
         ),
-        doc(
+        ParamDoc::new(
             "info_gain_spacing_m",
             "m",
             "Eq. 11 candidate spacing; auto: max(0.2 m, r_sensor/20) (ours)",
         ),
-        doc(
+        ParamDoc::new(
             "look_around",
             "",
             "turn once on the spot at a reached spatial goal (ours)",
         ),
-        doc(
+        ParamDoc::new(
             "commit_to_goal",
             "",
             "keep the pursued goal first when the goals change (ours)",
         ),
-        doc(
+        ParamDoc::new(
             "stuck_windows_as_samples",
             "",
             "a window that finds the robot stuck is also a cost sample of its gait (ours)",
@@ -273,7 +273,7 @@ impl StrategyParams for TourParams {
     ];
 
     fn validate(&self) -> Result<(), ParamError> {
-        for (k, v) in [
+        check::all_positive(&[
             ("lengthscale", self.lengthscale),
             ("sigma_s", self.sigma_s),
             ("sigma_eps", self.sigma_eps),
@@ -291,9 +291,7 @@ impl StrategyParams for TourParams {
             ("learning_hz", self.learning_hz),
             ("tour_hz", self.tour_hz),
             ("gtsp_time_limit_s", self.gtsp_time_limit_s),
-        ] {
-            check::positive(k, v)?;
-        }
+        ])?;
         check::within("c_high", self.c_high, 1.0, 1e6)?;
         check::within("c_max", self.c_max, 1.0, 1e6)?;
         check::within("control_hz", self.control_hz, 1.0, 1000.0)?;
@@ -314,10 +312,6 @@ impl StrategyParams for TourParams {
         check::positive_opt("info_gain_spacing_m", self.info_gain_spacing_m)?;
         Ok(())
     }
-}
-
-const fn doc(key: &'static str, unit: &'static str, doc: &'static str) -> ParamDoc {
-    ParamDoc { key, unit, doc }
 }
 
 impl TourParams {

@@ -17,6 +17,13 @@ pub struct ParamDoc {
     pub doc: &'static str,
 }
 
+impl ParamDoc {
+    /// The doc of `key` in `unit` (empty: none).
+    pub const fn new(key: &'static str, unit: &'static str, doc: &'static str) -> Self {
+        Self { key, unit, doc }
+    }
+}
+
 /// A parameter that is wrong: its key and why.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{message}")]
@@ -26,6 +33,11 @@ pub struct ParamError {
 }
 
 impl ParamError {
+    /// The robot has no gait to choose.
+    pub fn no_gait() -> Self {
+        Self::new("gait", "cannot be chosen: the robot has no gait")
+    }
+
     /// An error about `key`.
     pub fn new(key: &str, what: impl std::fmt::Display) -> Self {
         Self {
@@ -159,6 +171,16 @@ pub mod check {
                 format!("must be in {lo}..={hi}, got {v}"),
             ))
         }
+    }
+
+    /// Every value a finite number > 0; the first that is not names its key.
+    pub fn all_positive(values: &[(&str, f64)]) -> Result<(), ParamError> {
+        values.iter().try_for_each(|&(k, v)| positive(k, v))
+    }
+
+    /// Every value a finite number ≥ 0; the first that is not names its key.
+    pub fn all_non_negative(values: &[(&str, f64)]) -> Result<(), ParamError> {
+        values.iter().try_for_each(|&(k, v)| non_negative(k, v))
     }
 
     /// An optional finite number > 0.
