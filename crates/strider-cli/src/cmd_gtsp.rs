@@ -7,10 +7,12 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use serde_json::json;
 use strider_plan::tsplib::read_instance_file;
-use strider_plan::{Instance, Mode, Solution, SolverParams, solve};
+use strider_plan::{Instance, Mode, Solution, SolverParams};
+
+use crate::args::{GtspBenchArgs, SolveArgs};
 
 /// Parses a solver mode name.
-pub fn parse_mode(s: &str) -> Result<Mode> {
+fn parse_mode(s: &str) -> Result<Mode> {
     Ok(match s {
         "fast" => Mode::Fast,
         "default" => Mode::Default,
@@ -41,7 +43,8 @@ fn read_instance(path: &Path) -> Result<Instance> {
 
 /// Solves and checks the answer: one vertex per set, reported cost equal to a re-evaluation.
 fn solve_checked(inst: &Instance, p: &SolverParams, path: &Path) -> Result<Solution> {
-    let sol = solve(inst, p).with_context(|| format!("{}: cannot solve", path.display()))?;
+    let sol = strider_plan::solve(inst, p)
+        .with_context(|| format!("{}: cannot solve", path.display()))?;
     inst.check_tour(&sol.tour)
         .with_context(|| format!("{}: solver returned an infeasible tour", path.display()))?;
     let re = inst.tour_cost(&sol.tour);
@@ -56,13 +59,11 @@ fn solve_checked(inst: &Instance, p: &SolverParams, path: &Path) -> Result<Solut
 }
 
 /// Runs `strider gtsp solve`.
-pub fn solve_file(
-    file: &Path,
-    time_limit: f64,
-    seed: u64,
-    mode: Mode,
-    as_json: bool,
-) -> Result<()> {
+pub fn solve(a: &SolveArgs) -> Result<()> {
+    solve_file(&a.file, a.time_limit, a.seed, parse_mode(&a.mode)?, a.json)
+}
+
+fn solve_file(file: &Path, time_limit: f64, seed: u64, mode: Mode, as_json: bool) -> Result<()> {
     let inst = read_instance(file)?;
     let sol = solve_checked(&inst, &params(time_limit, seed, mode)?, file)?;
     // Vertex ids as in the file (1-based).
@@ -151,7 +152,7 @@ fn references(dir: &Path) -> Result<Vec<Reference>> {
 }
 
 /// Options of `strider gtsp bench`.
-pub struct BenchOptions {
+struct BenchOptions {
     /// Time limit per run, seconds.
     pub time_limit: f64,
     /// Runs per instance (seeds seed, seed+1, …).
@@ -167,7 +168,19 @@ pub struct BenchOptions {
 }
 
 /// Runs `strider gtsp bench`.
-pub fn bench(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()> {
+pub fn bench(a: &GtspBenchArgs) -> Result<()> {
+    let o = BenchOptions {
+        time_limit: a.time_limit,
+        runs: a.runs,
+        seed: a.seed,
+        mode: parse_mode(&a.mode)?,
+        min_sets: a.min_sets,
+        max_sets: a.max_sets,
+    };
+    bench_dir(&a.dir, &o, a.json.as_deref())
+}
+
+fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()> {
     if o.runs == 0 {
         bail!("--runs must be at least 1");
     }

@@ -4,7 +4,7 @@
 #[path = "../examples/nearest_frontier.rs"]
 mod nearest_frontier;
 
-use strider_cli::compare::{self, CompareOptions, Entrant};
+use strider_experiments::compare::{self, CompareOptions, Entrant};
 
 #[test]
 fn the_example_strategy_explores_and_is_compared() {

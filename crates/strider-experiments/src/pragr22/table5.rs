@@ -1,0 +1,305 @@
+//! `strider bench table5`: the mission-level reproduction of Prágr22 Table 5.
+//!
+//! Every block of the table is rebuilt from independent trials in the simulator:
+//!
+//! * small tours 1 and 2 with the three navigation modes, after a `gtsp` exploration of
+//!   `courtyard-small` (one exploration per trial, the three modes on its map and models);
+//! * small exploration time, `gtsp` against `greedy`;
+//! * the large tour in the `learned` mode after a `gtsp` exploration ("proposed") against the
+//!   same after a `spatial-only` exploration, and the two exploration times, on
+//!   `courtyard-large`.
+//!
+//! Trial i (0-based) of a row runs on world seed 1 + (i mod K) with mission seed 1 + i, so the
+//! trials of a row cover K random worlds and the rows that are compared (gtsp/greedy, and the
+//! modes of one exploration) are paired by trial. Trials run in parallel on a pool of `--jobs`
+//! threads; each trial is deterministic, so the table does not depend on the job count.
+//! Statistics: mean ± std, paired win fractions and two-sided and one-sided Mann–Whitney U
+//! ([`crate::stats`]).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use rayon::prelude::*;
+use serde::Serialize;
+use strider_explore::Strategy;
+use strider_explore::evaluate::NavigationMode;
+
+use super::table5_report::{Row, Table5Report, markdown};
+use crate::io::{create_dir, write_json_bare, write_text};
+use crate::parallel::pool;
+use crate::progress::Progress;
+use crate::stats::median_max;
+use crate::trial::{checked_time_limit, load, mission_params, run_mission, run_tours};
+
+/// Options of `strider bench table5`.
+#[derive(Clone, Debug)]
+pub struct Table5Options {
+    /// Trials per row of the small world.
+    pub trials: usize,
+    /// Trials per row of the large world.
+    pub large_trials: usize,
+    /// Number of random worlds the trials cycle through.
+    pub world_seeds: u64,
+    /// Parallel trials.
+    pub jobs: usize,
+    /// Mission time limit override, simulated seconds.
+    pub time_limit: Option<f64>,
+    /// Record every trial's mission to `DIR/<scenario>-<strategy>-w<world>-s<seed>.mcap`.
+    pub mcap_dir: Option<PathBuf>,
+}
+
+/// One experiment to run: a world, a strategy, a seed, and which tour modes to drive after.
+#[derive(Clone, Debug)]
+struct Task {
+    scenario: &'static str,
+    strategy: Strategy,
+    world_seed: u64,
+    seed: u64,
+    modes: Vec<NavigationMode>,
+}
+
+/// What one trial measured.
+#[derive(Clone, Debug, Serialize)]
+pub struct TrialResult {
+    /// Scenario.
+    pub scenario: String,
+    /// Strategy.
+    pub strategy: String,
+    /// World seed.
+    pub world_seed: u64,
+    /// Mission seed.
+    pub seed: u64,
+    /// Why the exploration stopped.
+    pub termination: String,
+    /// Exploration time, simulated s.
+    pub exploration_time_s: f64,
+    /// Observed map cells.
+    pub observed_cells: usize,
+    /// Per benchmark tour (scenario order) and navigation mode: (tour, mode, total_s,
+    /// completed).
+    pub tours: Vec<Vec<(String, String, f64, bool)>>,
+    /// Median replan latency, ms.
+    pub replan_ms_median: f64,
+    /// Worst replan latency, ms.
+    pub replan_ms_max: f64,
+    /// Wall time of the trial, s.
+    pub wall_s: f64,
+}
+
+impl TrialResult {
+    /// (total_s, completed) of the scenario's `index`-th tour driven in `mode`.
+    pub(crate) fn tour(&self, index: usize, mode: NavigationMode) -> Option<(f64, bool)> {
+        self.tours
+            .get(index)?
+            .iter()
+            .find(|t| t.1 == mode.name())
+            .map(|t| (t.2, t.3))
+    }
+}
+
+/// The table written: `table5.json`, `table5.md` (also returned, for the terminal).
+pub struct Table5 {
+    /// The markdown table.
+    pub markdown: String,
+    /// `table5.json`.
+    pub json: PathBuf,
+    /// `table5.md`.
+    pub md: PathBuf,
+}
+
+/// Runs `strider bench table5` into `out`.
+pub fn table5(o: &Table5Options, out: &Path, progress: &dyn Progress) -> Result<Table5> {
+    check(o)?;
+    create_dir(out)?;
+    if let Some(dir) = &o.mcap_dir {
+        create_dir(dir)?;
+    }
+    let wall = Instant::now();
+    let tasks = tasks(o);
+    progress.start(tasks.len() as u64);
+    let trials = run_trials(o, &tasks, progress)?;
+    let report = Table5Report::new(o, trials, wall);
+    let json = out.join("table5.json");
+    write_json_bare(&json, &report)?;
+    let markdown = markdown(&report);
+    let md = out.join("table5.md");
+    write_text(&md, &markdown)?;
+    Ok(Table5 { markdown, json, md })
+}
+
+fn check(o: &Table5Options) -> Result<()> {
+    if o.trials == 0 || o.world_seeds == 0 || o.jobs == 0 {
+        bail!("--trials, --world-seeds and --jobs must be at least 1");
+    }
+    if let Some(t) = o.time_limit {
+        checked_time_limit(t)?;
+    }
+    Ok(())
+}
+
+/// Every trial of the table, longest first (large worlds), so the pool does not end on one
+/// long trial.
+fn tasks(o: &Table5Options) -> Vec<Task> {
+    let task = |scenario, strategy, i: usize, modes: &[NavigationMode]| Task {
+        scenario,
+        strategy,
+        world_seed: 1 + (i as u64 % o.world_seeds),
+        seed: 1 + i as u64,
+        modes: modes.to_vec(),
+    };
+    let mut tasks = Vec::new();
+    for i in 0..o.trials {
+        tasks.push(task(
+            "courtyard-small",
+            Strategy::Gtsp,
+            i,
+            &NavigationMode::ALL,
+        ));
+        tasks.push(task("courtyard-small", Strategy::Greedy, i, &[]));
+    }
+    for i in 0..o.large_trials {
+        for strategy in [Strategy::Gtsp, Strategy::SpatialOnly] {
+            tasks.push(task(
+                "courtyard-large",
+                strategy,
+                i,
+                &[NavigationMode::Learned],
+            ));
+        }
+    }
+    tasks.sort_by_key(|t| (t.scenario != "courtyard-large", t.seed));
+    tasks
+}
+
+/// Runs the trials on `o.jobs` threads; the results sorted by scenario, strategy and seed.
+fn run_trials(
+    o: &Table5Options,
+    tasks: &[Task],
+    progress: &dyn Progress,
+) -> Result<Vec<TrialResult>> {
+    let results: Vec<Result<TrialResult>> = pool(o.jobs)?.install(|| {
+        tasks
+            .par_iter()
+            .with_max_len(1)
+            .map(|t| {
+                let r = run_task(t, o.time_limit, o.mcap_dir.as_deref()).with_context(|| {
+                    format!(
+                        "trial {} {} world seed {} seed {}",
+                        t.scenario,
+                        t.strategy.name(),
+                        t.world_seed,
+                        t.seed
+                    )
+                });
+                progress.inc();
+                r
+            })
+            .collect()
+    });
+    let mut trials = results.into_iter().collect::<Result<Vec<_>>>()?;
+    trials.sort_by(|a, b| {
+        (&a.scenario, &a.strategy, a.seed).cmp(&(&b.scenario, &b.strategy, b.seed))
+    });
+    Ok(trials)
+}
+
+fn run_task(task: &Task, time_limit: Option<f64>, mcap_dir: Option<&Path>) -> Result<TrialResult> {
+    let wall = Instant::now();
+    let sc = load(task.scenario, task.world_seed)?;
+    let mut params = mission_params(&sc, task.strategy, task.seed)?;
+    if let Some(t) = time_limit {
+        params.time_limit_s = t;
+    }
+    let file = mcap_dir.map(|dir| {
+        dir.join(format!(
+            "{}-{}-w{}-s{}.mcap",
+            task.scenario,
+            task.strategy.name(),
+            task.world_seed,
+            task.seed
+        ))
+    });
+    let (mission, log, _) = run_mission(&sc, params, task.seed, file.as_deref(), |_| {})?;
+    let tours = if task.modes.is_empty() {
+        Vec::new()
+    } else {
+        run_tours(&sc, &mission, task.seed, &task.modes, |_, _| {})?
+    };
+    let (replan_ms_median, replan_ms_max) = median_max(&log.replan_ms);
+    Ok(TrialResult {
+        scenario: task.scenario.to_string(),
+        strategy: task.strategy.name().to_string(),
+        world_seed: task.world_seed,
+        seed: task.seed,
+        termination: format!("{:?}", mission.record().termination),
+        exploration_time_s: mission.record().exploration_time_s,
+        observed_cells: mission.body().map().observed_count(),
+        tours: tours
+            .iter()
+            .map(|(name, rs)| {
+                rs.iter()
+                    .map(|r| {
+                        (
+                            name.clone(),
+                            r.mode.name().to_string(),
+                            r.total_s,
+                            r.completed,
+                        )
+                    })
+                    .collect()
+            })
+            .collect(),
+        replan_ms_median,
+        replan_ms_max,
+        wall_s: wall.elapsed().as_secs_f64(),
+    })
+}
+
+/// The rows of the table from the trials (see [`Row`]).
+pub(crate) fn rows(trials: &[TrialResult]) -> Vec<Row> {
+    let select = |sc: &str, st: Strategy| -> Vec<&TrialResult> {
+        trials
+            .iter()
+            .filter(|t| t.scenario == sc && t.strategy == st.name())
+            .collect()
+    };
+    let small = select("courtyard-small", Strategy::Gtsp);
+    let greedy = select("courtyard-small", Strategy::Greedy);
+    let large = select("courtyard-large", Strategy::Gtsp);
+    let spatial = select("courtyard-large", Strategy::SpatialOnly);
+    let tour = |name: String, set: &[&TrialResult], k: usize, m: NavigationMode| {
+        let driven: Vec<(f64, bool)> = set.iter().filter_map(|t| t.tour(k, m)).collect();
+        Row::new(
+            name,
+            driven.iter().map(|x| x.0).collect(),
+            driven.iter().filter(|x| !x.1).count(),
+        )
+    };
+    let expl = |name: &str, set: &[&TrialResult]| {
+        Row::new(
+            name.to_string(),
+            set.iter().map(|t| t.exploration_time_s).collect(),
+            0,
+        )
+    };
+    let mut rows = Vec::new();
+    for k in 0..2 {
+        for m in NavigationMode::ALL {
+            rows.push(tour(
+                format!("small tour {} {}", k + 1, m.name()),
+                &small,
+                k,
+                m,
+            ));
+        }
+    }
+    rows.push(expl("small exploration gtsp", &small));
+    rows.push(expl("small exploration greedy", &greedy));
+    let learned = NavigationMode::Learned;
+    rows.push(tour("large tour proposed".into(), &large, 0, learned));
+    rows.push(tour("large tour spatial-only".into(), &spatial, 0, learned));
+    rows.push(expl("large exploration proposed", &large));
+    rows.push(expl("large exploration spatial-only", &spatial));
+    rows
+}
