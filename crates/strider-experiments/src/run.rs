@@ -6,13 +6,16 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
+use serde::Serialize;
 use strider_explore::registry::Configured;
+use strider_explore::{Mission, MissionProgress, MissionStrategy};
 use strider_log::writer::WriteSummary;
+use strider_scenario::Scenario;
 
 use crate::io::create_dir;
 use crate::parallel::on_worker;
 use crate::progress::Progress;
-use crate::trial::{configure, load};
+use crate::trial::{checked_time_limit, configure, load};
 use crate::{pragr19, pragr22, pragr23};
 
 /// What `strider run` was asked to do.
@@ -61,15 +64,76 @@ impl fmt::Display for Recorded {
     }
 }
 
+/// Which mission a report is about.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MissionId {
+    /// Scenario name.
+    pub scenario: String,
+    /// World seed.
+    pub world_seed: u64,
+    /// Mission seed.
+    pub seed: u64,
+    /// Strategy name.
+    pub strategy: &'static str,
+}
+
+impl MissionId {
+    pub(crate) fn of(sc: &Scenario, req: &RunRequest, strategy: &'static str) -> Self {
+        Self {
+            scenario: sc.name.clone(),
+            world_seed: req.world_seed,
+            seed: req.seed,
+            strategy,
+        }
+    }
+}
+
+/// How a mission's exploration ended.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Explored {
+    /// Why the exploration stopped.
+    pub termination: String,
+    /// Exploration time, simulated s.
+    pub exploration_time_s: f64,
+    /// Distance driven, m.
+    pub driven_m: f64,
+    /// Observed map cells.
+    pub observed_cells: usize,
+}
+
+impl Explored {
+    pub(crate) fn of<S: MissionStrategy>(mission: &Mission<S>) -> Self {
+        let record = mission.record();
+        Self {
+            termination: format!("{:?}", record.termination),
+            exploration_time_s: record.exploration_time_s,
+            driven_m: record.driven_m,
+            observed_cells: mission.body().map().observed_count(),
+        }
+    }
+}
+
+/// A finished mission of `strider run`: its report, where it was written and what was
+/// recorded. Its `Display` is the summary for the terminal.
+#[derive(Debug)]
+pub struct MissionRun<R> {
+    /// The report written.
+    pub report: R,
+    /// Where `report.json` is.
+    pub path: PathBuf,
+    /// What was recorded to MCAP, if asked.
+    pub recorded: Option<Recorded>,
+}
+
 /// A finished `strider run`; its `Display` is the summary for the terminal.
 #[derive(Debug)]
 pub enum RunOutcome {
     /// A Prágr22 mission.
-    Tour(Box<pragr22::TourRun>),
+    Tour(Box<MissionRun<pragr22::report::RunReport>>),
     /// A Prágr19 mission.
-    Rbcm(Box<pragr19::RbcmRun>),
+    Rbcm(Box<MissionRun<pragr19::report::RbcmReport>>),
     /// A Prágr23 mission.
-    Escape(Box<pragr23::EscapeRun>),
+    Escape(Box<MissionRun<pragr23::EscapeReport>>),
 }
 
 impl fmt::Display for RunOutcome {
@@ -104,9 +168,21 @@ pub fn run(req: &RunRequest, progress: &dyn Progress) -> Result<RunOutcome> {
     })
 }
 
-/// Creates the output directory and announces a mission of `limit_s` simulated seconds.
-pub(crate) fn start(out: &Path, limit_s: f64, progress: &dyn Progress) -> Result<()> {
-    create_dir(out)?;
+/// Applies the request's time limit to a mission's `limit_s`, creates the output directory
+/// and announces the mission's length.
+pub(crate) fn start(req: &RunRequest, limit_s: &mut f64, progress: &dyn Progress) -> Result<()> {
+    if let Some(t) = req.time_limit {
+        *limit_s = checked_time_limit(t)?;
+    }
+    create_dir(req.out)?;
     progress.start(limit_s.max(1.0) as u64);
     Ok(())
+}
+
+/// The progress line of a mission that maps and learns.
+pub(crate) fn learning_message(p: &MissionProgress) -> String {
+    format!(
+        "{} cells mapped, {} learning pairs",
+        p.observed_cells, p.learning_set
+    )
 }

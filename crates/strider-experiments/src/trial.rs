@@ -170,21 +170,73 @@ pub fn drive<S: MissionStrategy>(
     Ok(Some(rec.finish()?))
 }
 
-/// Runs an exploration mission with `params` on the scenario's world (simulator seeded with
+/// Runs a mission of strategy `S` with `params` on the scenario's world (simulator seeded with
 /// `seed`), reporting progress about once per simulated second; with `mcap`, records it there
 /// (ROS 2 sensor stream and Foxglove visualisation, see `strider_log::recorder`) and returns
 /// what was written too.
+pub fn run_strategy<S: FromParams>(
+    sc: &Scenario,
+    params: S::Params,
+    seed: u64,
+    mcap: Option<&Path>,
+    mut progress: impl FnMut(&MissionProgress),
+) -> Result<(Mission<S>, Option<WriteSummary>)> {
+    let mut mission = S::mission(params)?;
+    let written = drive(sc, seed, &mut mission, mcap, |_, p| progress(p))?;
+    Ok((mission, written))
+}
+
+/// [`run_strategy`] of a `001` mission, with its log.
 pub fn run_mission(
     sc: &Scenario,
     params: MissionParams,
     seed: u64,
     mcap: Option<&Path>,
-    mut progress: impl FnMut(&MissionProgress),
+    progress: impl FnMut(&MissionProgress),
 ) -> Result<(Mission<TourExplorer>, MissionLog, Option<WriteSummary>)> {
-    let mut mission = TourExplorer::mission(params)?;
-    let written = drive(sc, seed, &mut mission, mcap, |_, p| progress(p))?;
+    let (mission, written) = run_strategy::<TourExplorer>(sc, params, seed, mcap, progress)?;
     let log = mission.strategy().log().clone();
     Ok((mission, log, written))
+}
+
+/// Where a trial of a bench ran and how its exploration ended: the first fields of every
+/// trial's record.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct TrialRecord {
+    /// Scenario.
+    pub scenario: String,
+    /// Strategy.
+    pub strategy: String,
+    /// World seed.
+    pub world_seed: u64,
+    /// Mission seed.
+    pub seed: u64,
+    /// Why the exploration stopped.
+    pub termination: String,
+    /// Exploration time, simulated s.
+    pub exploration_time_s: f64,
+    /// Observed map cells.
+    pub observed_cells: usize,
+}
+
+impl TrialRecord {
+    /// The record of `mission`, run as `strategy` on `scenario` with seeds `(world_seed, seed)`.
+    pub fn of<S: MissionStrategy>(
+        scenario: &str,
+        strategy: &str,
+        (world_seed, seed): (u64, u64),
+        mission: &Mission<S>,
+    ) -> Self {
+        Self {
+            scenario: scenario.to_string(),
+            strategy: strategy.to_string(),
+            world_seed,
+            seed,
+            termination: format!("{:?}", mission.record().termination),
+            exploration_time_s: mission.record().exploration_time_s,
+            observed_cells: mission.body().map().observed_count(),
+        }
+    }
 }
 
 /// The benchmark tours of the scenario on the mission's frozen map and models, once per

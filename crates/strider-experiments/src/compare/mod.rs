@@ -35,7 +35,7 @@ use crate::io::{create_dir, write_json, write_text};
 use crate::parallel::pool;
 use crate::stats::Summary;
 use crate::trial::{
-    Learned, checked_time_limit, configure, drive, robot_spec, run_tours_with, section,
+    Learned, TrialRecord, checked_time_limit, configure, drive, robot_spec, run_tours_with, section,
 };
 pub use table::markdown;
 use table::{pair_tests, summarise};
@@ -111,20 +111,9 @@ pub struct ModelError {
 /// One trial.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CompareTrial {
-    /// Scenario.
-    pub scenario: String,
-    /// Strategy.
-    pub strategy: String,
-    /// World seed.
-    pub world_seed: u64,
-    /// Mission seed.
-    pub seed: u64,
-    /// Why the exploration stopped.
-    pub termination: String,
-    /// Exploration time, simulated s.
-    pub exploration_time_s: f64,
-    /// Observed map cells.
-    pub observed_cells: usize,
+    /// Where it ran and how the exploration ended.
+    #[serde(flatten)]
+    pub trial: TrialRecord,
     /// Learned-cost error per model.
     pub cost_error: Vec<ModelError>,
     /// The benchmark tour's name.
@@ -229,7 +218,7 @@ pub fn run(
             let key = (name.clone(), e.name.clone());
             let mine: Vec<&CompareTrial> = trials
                 .iter()
-                .filter(|t| t.scenario == *name && t.strategy == e.name)
+                .filter(|t| t.trial.scenario == *name && t.trial.strategy == e.name)
                 .collect();
             cells.push(summarise(name, &e.name, skipped.get(&key).cloned(), &mine));
         }
@@ -320,7 +309,6 @@ fn run_trial(t: &Task, time_limit: Option<f64>) -> Result<CompareTrial> {
     let mut mission = Mission::new(body, Shadowed::new(strategy, learner))?;
     drive(&sc, t.seed, &mut mission, None, |_, _| {})?;
     let snap = mission.snapshot(true);
-    let record = mission.record();
     let learner = mission.strategy().learner();
     let tours = run_tours_with(
         &sc,
@@ -336,13 +324,12 @@ fn run_trial(t: &Task, time_limit: Option<f64>) -> Result<CompareTrial> {
     let tour = tours.first();
     let result = tour.and_then(|(_, r)| r.first());
     Ok(CompareTrial {
-        scenario: t.scenario.to_string(),
-        strategy: t.entrant.name.clone(),
-        world_seed: t.world_seed,
-        seed: t.seed,
-        termination: format!("{:?}", record.termination),
-        exploration_time_s: record.exploration_time_s,
-        observed_cells: mission.body().map().observed_count(),
+        trial: TrialRecord::of(
+            t.scenario,
+            &t.entrant.name,
+            (t.world_seed, t.seed),
+            &mission,
+        ),
         cost_error: cost_errors(&sc, &snap),
         tour: tour.map(|(n, _)| n.clone()),
         tour_time_s: result.map(|r| r.total_s),

@@ -27,8 +27,11 @@ pub(super) fn summarise(
         scenario: scenario.to_string(),
         strategy: strategy.to_string(),
         skipped,
-        exploration_time_s: of(trials.iter().map(|t| t.exploration_time_s).collect()),
-        observed_cells: of(trials.iter().map(|t| t.observed_cells as f64).collect()),
+        exploration_time_s: of(trials.iter().map(|t| t.trial.exploration_time_s).collect()),
+        observed_cells: of(trials
+            .iter()
+            .map(|t| t.trial.observed_cells as f64)
+            .collect()),
         cost_rmse: rmse
             .into_iter()
             .filter_map(|(m, v)| Some((m, Summary::of(&v).ok()?)))
@@ -60,12 +63,12 @@ pub(super) fn pair_tests(
     let series = |sc: &str, st: &str, f: Measure| -> Vec<f64> {
         trials
             .iter()
-            .filter(|t| t.scenario == sc && t.strategy == st)
+            .filter(|t| t.trial.scenario == sc && t.trial.strategy == st)
             .filter_map(f)
             .collect()
     };
     let measures: [(&str, Measure); 2] = [
-        ("exploration_time_s", |t| Some(t.exploration_time_s)),
+        ("exploration_time_s", |t| Some(t.trial.exploration_time_s)),
         ("tour_time_s", completed_tour_time),
     ];
     let mut out = Vec::new();
@@ -109,7 +112,7 @@ fn unit_of(c: &Comparison, strategy: &str, model: &str) -> &'static str {
     let q = c
         .trials
         .iter()
-        .filter(|t| t.strategy == strategy)
+        .filter(|t| t.trial.strategy == strategy)
         .flat_map(|t| &t.cost_error)
         .find(|e| e.model == model)
         .map(|e| e.quantity);

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use super::metrics::{aggregate, all_names, converged_run, costs, distinct};
 use super::{Config, Group, NavigateOptions, Task, WITHIN};
-use crate::stats::mean_std_finite;
+use crate::stats::{MeanStd, mean_std_finite};
 use strider_explore::navigate::{NavigationLog, Objective};
 
 /// Published Nardi19 Table I: (RMS error, Mahalanobis distance) per model, site 1 then site 2.
@@ -50,20 +50,6 @@ pub struct PublishedRow {
     model: &'static str,
     site_1: Accuracy,
     site_2: Accuracy,
-}
-
-/// Mean and sample standard deviation over seeds.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct MeanStd {
-    mean: f64,
-    std: f64,
-}
-
-impl MeanStd {
-    fn of(v: &[f64]) -> Self {
-        let (mean, std) = mean_std_finite(v);
-        Self { mean, std }
-    }
 }
 
 /// A configuration's figures over the seeds of a site.
@@ -275,14 +261,14 @@ fn summary(groups: &[Group]) -> Vec<SummaryRow> {
                     objective: objective.name(),
                     config: name,
                     seeds: a.rmse.len(),
-                    rmse: MeanStd::of(&a.rmse),
-                    mahalanobis: MeanStd::of(&a.mahal),
-                    visited_cells: MeanStd::of(&a.visited),
-                    final_ratio_to_least_cost: MeanStd::of(&a.ratio),
-                    last5_ratio_to_least_cost: MeanStd::of(&a.ratio_last5),
-                    run1_ratio_to_least_cost: MeanStd::of(&a.run1_ratio),
+                    rmse: MeanStd::of_finite(&a.rmse),
+                    mahalanobis: MeanStd::of_finite(&a.mahal),
+                    visited_cells: MeanStd::of_finite(&a.visited),
+                    final_ratio_to_least_cost: MeanStd::of_finite(&a.ratio),
+                    last5_ratio_to_least_cost: MeanStd::of_finite(&a.ratio_last5),
+                    run1_ratio_to_least_cost: MeanStd::of_finite(&a.run1_ratio),
                     converged_seeds: a.converged.iter().filter(|c| c.is_some()).count(),
-                    converged_run_of_converged: MeanStd::of(&conv),
+                    converged_run_of_converged: MeanStd::of_finite(&conv),
                 });
             }
         }

@@ -7,6 +7,6 @@ mod run;
 mod stream;
 mod stream_report;
 
-pub use run::{RbcmRun, explore, run, terrain_check};
+pub use run::{RbcmRun, run, terrain_check};
 pub use stream::{StreamOptions, stream_bench};
 pub use stream_report::{AtStep, Curve, Findings, LearnerReport, REPORT_AT, StreamReport};

@@ -9,8 +9,7 @@ use strider_explore::rbcm_greedy::{CostRecord, PlanRecord, RbcmGreedy};
 use strider_scenario::Scenario;
 
 use crate::pragr22::report::MedianMax;
-use crate::run::RunRequest;
-use crate::stats::median_max;
+use crate::run::{Explored, MissionId, RunRequest};
 
 /// Planning-time figures are reported over cycles with at least this many traversable cells
 /// (the paper's 23.2 s was at 910).
@@ -47,20 +46,17 @@ pub struct ExpertReport {
 /// Median, maximum and count of planning-cycle timings, ms.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct CycleStats {
-    /// Median.
-    pub median: f64,
-    /// Maximum.
-    pub max: f64,
+    /// Median and maximum.
+    #[serde(flatten)]
+    pub ms: MedianMax,
     /// Cycles.
     pub cycles: usize,
 }
 
 impl CycleStats {
     fn of(v: &[f64]) -> Self {
-        let (median, max) = median_max(v);
         Self {
-            median,
-            max,
+            ms: MedianMax::of(v),
             cycles: v.len(),
         }
     }
@@ -90,28 +86,18 @@ pub struct PlanningMs {
 /// `report.json` of `strider run --strategy rbcm-greedy`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RbcmReport {
-    /// Scenario name.
-    pub scenario: String,
-    /// World seed.
-    pub world_seed: u64,
-    /// Mission seed.
-    pub seed: u64,
-    /// `rbcm-greedy`.
-    pub strategy: &'static str,
+    /// Which mission (strategy `rbcm-greedy`).
+    #[serde(flatten)]
+    pub id: MissionId,
     /// The gait walked.
     pub gait: String,
     /// The goal-score threshold of the gait.
     pub lambda_score: f64,
-    /// Why the exploration stopped.
-    pub termination: String,
+    /// How the exploration ended.
+    #[serde(flatten)]
+    pub explored: Explored,
     /// Whether it stopped by Eq. 16 (no goal left).
     pub terminated: bool,
-    /// Exploration time, simulated s.
-    pub exploration_time_s: f64,
-    /// Distance driven, m.
-    pub driven_m: f64,
-    /// Observed map cells.
-    pub observed_cells: usize,
     /// Easy terrains all predicted cheaper than hard ones.
     pub terrains_learned: bool,
     /// Per terrain.
@@ -181,17 +167,11 @@ pub(crate) fn report(
     let log = ex.log();
     let record = mission.record();
     RbcmReport {
-        scenario: sc.name.clone(),
-        world_seed: req.world_seed,
-        seed: req.seed,
-        strategy: "rbcm-greedy",
+        id: MissionId::of(sc, req, "rbcm-greedy"),
         gait: sc.robot.gaits[ex.params().gait.0 as usize].name.clone(),
         lambda_score: ex.params().lambda_score,
-        termination: format!("{:?}", record.termination),
+        explored: Explored::of(mission),
         terminated: record.termination == Termination::GoalsCleared,
-        exploration_time_s: record.exploration_time_s,
-        driven_m: record.driven_m,
-        observed_cells: mission.body().map().observed_count(),
         terrains_learned: learned,
         terrains,
         learning_pairs: ex.rbcm().len(),

@@ -13,53 +13,28 @@
 //! one (cubes, stairs), as Prágr19 §V-B checks.
 
 use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
-use strider_explore::rbcm_greedy::{RbcmGreedy, RbcmGreedyLog, RbcmGreedyParams};
+use strider_explore::Mission;
+use strider_explore::rbcm_greedy::{RbcmGreedy, RbcmGreedyLog};
 use strider_explore::registry::RbcmTable;
-use strider_explore::{FromParams, Mission, MissionProgress};
-use strider_log::writer::WriteSummary;
 use strider_scenario::Scenario;
 
 use super::report::{RbcmReport, TerrainRow, report};
 use crate::io::write_json_bare;
 use crate::progress::Progress;
 use crate::render::{Canvas, line_chart, palette, scalar_canvas};
-use crate::run::{Recorded, RunRequest, start};
-use crate::trial::{checked_time_limit, drive, robot_spec};
+use crate::run::{MissionRun, Recorded, RunRequest, learning_message, start};
+use crate::trial::{robot_spec, run_strategy};
 
 /// Terrains Prágr19 §V-B expects to be learned as easy and as hard.
 const EASY: [&str; 3] = ["flat", "grass", "carpet"];
 const HARD: [&str; 2] = ["cubes", "stairs"];
 
 /// A finished `strider run --strategy rbcm-greedy`.
-#[derive(Debug)]
-pub struct RbcmRun {
-    /// The report written.
-    pub report: RbcmReport,
-    /// Where `report.json` is.
-    pub path: PathBuf,
-    /// What was recorded to MCAP, if asked.
-    pub recorded: Option<Recorded>,
-    /// RBCM experts at the end.
-    pub experts: usize,
-}
-
-/// One `rbcm-greedy` exploration on the scenario's world (simulator seed `seed`), recorded to
-/// `mcap` if given; the final Mcost is built for the report.
-pub fn explore(
-    sc: &Scenario,
-    params: RbcmGreedyParams,
-    seed: u64,
-    mcap: Option<&Path>,
-    mut progress: impl FnMut(&MissionProgress),
-) -> Result<(Mission<RbcmGreedy>, Option<WriteSummary>)> {
-    let mut mission = RbcmGreedy::mission(params)?;
-    let written = drive(sc, seed, &mut mission, mcap, |_, p| progress(p))?;
-    Ok((mission, written))
-}
+pub type RbcmRun = MissionRun<RbcmReport>;
 
 /// Per-terrain predictions of the final Mcost against the terrain table (module docs), and
 /// whether the easy terrains are all predicted cheaper than the hard ones.
@@ -142,21 +117,12 @@ pub fn run(
     let mut params = table
         .explorer_params(&robot_spec(sc))
         .map_err(|e| anyhow::anyhow!("strategy rbcm-greedy: {e}"))?;
-    if let Some(t) = req.time_limit {
-        params.time_limit_s = checked_time_limit(t)?;
-    }
-    start(req.out, params.time_limit_s, progress)?;
+    start(req, &mut params.time_limit_s, progress)?;
     for w in &warnings {
         progress.warn(w);
     }
-    let (mission, written) = explore(sc, params, req.seed, req.mcap, |p| {
-        progress.at(
-            p.time_s as u64,
-            &format!(
-                "{} cells mapped, {} learning pairs",
-                p.observed_cells, p.learning_set
-            ),
-        );
+    let (mission, written) = run_strategy::<RbcmGreedy>(sc, params, req.seed, req.mcap, |p| {
+        progress.at(p.time_s as u64, &learning_message(p));
     })?;
     let ex = mission.strategy();
     let (terrains, learned) = terrain_check(sc, ex);
@@ -166,25 +132,24 @@ pub fn run(
     write_figures(&mission, ex.log(), req.out)?;
     let path = req.out.join("report.json");
     write_json_bare(&path, &report)?;
-    Ok(RbcmRun {
+    Ok(MissionRun {
         report,
         path,
         recorded: Recorded::of(written.as_ref(), req.mcap),
-        experts: ex.rbcm().experts().len(),
     })
 }
 
 impl fmt::Display for RbcmRun {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let r = &self.report;
-        let p = &r.planning_ms;
+        let (id, ex, p) = (&r.id, &r.explored, &r.planning_ms);
         if let Some(rec) = &self.recorded {
             writeln!(f, "{rec}")?;
         }
         let large = if p.large_map.cycles > 0 {
             format!(
                 "median {:.2} ms over {} cycles",
-                p.large_map.median, p.large_map.cycles
+                p.large_map.ms.median, p.large_map.cycles
             )
         } else {
             format!("none (largest map {} cells)", p.max_traversable_cells)
@@ -192,18 +157,18 @@ impl fmt::Display for RbcmRun {
         writeln!(
             f,
             "{}: rbcm-greedy ({} gait, λ_score {}) {} after {:.0} s simulated ({:.1} s wall), {:.1} m, {} pairs in {} experts; terrains learned: {}; planning median {:.2} ms (max {:.2}) over {} cycles, at ≥ {} cells: {large}",
-            r.scenario,
+            id.scenario,
             r.gait,
             r.lambda_score,
-            r.termination,
-            r.exploration_time_s,
+            ex.termination,
+            ex.exploration_time_s,
             r.wall_s,
-            r.driven_m,
+            ex.driven_m,
             r.learning_pairs,
-            self.experts,
+            r.experts.len(),
             if r.terrains_learned { "yes" } else { "no" },
-            p.all.median,
-            p.all.max,
+            p.all.ms.median,
+            p.all.ms.max,
             p.all.cycles,
             p.large_map_min_cells,
         )?;

@@ -18,13 +18,16 @@ use crate::stats::{column_means, column_stds};
 pub const REPORT_AT: [usize; 3] = [50, 150, 300];
 
 /// A learner's per-step means over the repetitions.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Curve {
     /// The learner.
+    #[serde(skip)]
     pub label: String,
     /// Learning time of step k, s.
+    #[serde(rename = "learn_s")]
     pub learn: Vec<f64>,
     /// Inference time after step k, s.
+    #[serde(rename = "infer_s")]
     pub infer: Vec<f64>,
     /// RMSE after step k.
     pub rmse: Vec<f64>,
@@ -89,16 +92,9 @@ pub struct LearnerReport {
     pub max_rmse_rise_at: usize,
     /// The sum of all rises (an expert that starts voting shows as a rise).
     pub sum_rmse_rises: f64,
-    /// Learning time per step, s.
-    pub learn_s: Vec<f64>,
-    /// Inference time per step, s.
-    pub infer_s: Vec<f64>,
-    /// RMSE per step.
-    pub rmse: Vec<f64>,
-    /// Its standard deviation over repetitions.
-    pub rmse_std: Vec<f64>,
-    /// Mean predictive standard deviation per step.
-    pub mean_std: Option<Vec<f64>>,
+    /// The per-step curves.
+    #[serde(flatten)]
+    pub curve: Curve,
     /// The figures at the stream sizes of [`REPORT_AT`].
     #[serde(serialize_with = "ordered_map")]
     pub at: Vec<(String, AtStep)>,
@@ -135,11 +131,7 @@ impl LearnerReport {
             max_rmse_rise,
             max_rmse_rise_at,
             sum_rmse_rises: c.rmse.windows(2).map(|w| (w[1] - w[0]).max(0.0)).sum(),
-            learn_s: c.learn.clone(),
-            infer_s: c.infer.clone(),
-            rmse: c.rmse.clone(),
-            rmse_std: c.rmse_std.clone(),
-            mean_std: c.mean_std.clone(),
+            curve: c.clone(),
             at,
             final_rmse: c.rmse.last().copied(),
             rmse_spike_after_new_experts: match spec {
@@ -260,7 +252,7 @@ impl StreamReport {
     /// Learning time of `label` at step `k` (the last step when beyond), s.
     fn learn_at(&self, label: &str, k: usize) -> f64 {
         self.learner(label)
-            .and_then(|l| l.learn_s.get(k.min(self.pairs) - 1).copied())
+            .and_then(|l| l.curve.learn.get(k.min(self.pairs) - 1).copied())
             .unwrap_or(f64::NAN)
     }
 
@@ -288,7 +280,7 @@ impl StreamReport {
             learners_without_confidence: self
                 .learners
                 .iter()
-                .filter(|l| l.1.mean_std.is_none())
+                .filter(|l| l.1.curve.mean_std.is_none())
                 .map(|l| l.0.clone())
                 .collect(),
         }

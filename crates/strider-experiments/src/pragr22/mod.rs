@@ -12,5 +12,5 @@ pub use figures::write_figures;
 pub use run::{TourRun, run_tour};
 pub use table5::{Table5, Table5Options, TrialResult, table5};
 pub use table5_report::{
-    LargeReplanMs, MannWhitneyReport, MeanStd, Relation, Row, Table5Report, markdown,
+    LargeReplanMs, MannWhitneyReport, Ours, Relation, Row, Table5Report, markdown,
 };

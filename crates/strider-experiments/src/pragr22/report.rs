@@ -7,6 +7,7 @@ use strider_explore::kernel::TrajectorySample;
 use strider_explore::tour_explorer::ReplanParts;
 use strider_explore::{Mission, MissionLog, PhaseWall, TourExplorer};
 
+use crate::run::{Explored, MissionId};
 use crate::stats::median_max;
 
 /// Median and maximum of a latency series, ms.
@@ -127,24 +128,14 @@ pub struct TourReport {
 /// `report.json` of `strider run` with a Prágr22 strategy.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RunReport {
-    /// Scenario name.
-    pub scenario: String,
-    /// World seed.
-    pub world_seed: u64,
-    /// Mission seed.
-    pub seed: u64,
-    /// Strategy name.
-    pub strategy: &'static str,
+    /// Which mission.
+    #[serde(flatten)]
+    pub id: MissionId,
     /// The strategy's parameters.
     pub parameters: toml::Table,
-    /// Why the exploration stopped.
-    pub termination: String,
-    /// Exploration time, simulated s.
-    pub exploration_time_s: f64,
-    /// Distance driven, m.
-    pub driven_m: f64,
-    /// Observed map cells.
-    pub observed_cells: usize,
+    /// How the exploration ended.
+    #[serde(flatten)]
+    pub explored: Explored,
     /// Scans fused into the map.
     pub scans_fused: u64,
     /// Wall time per part of the mission loop, s.

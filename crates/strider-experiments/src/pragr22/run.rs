@@ -2,13 +2,12 @@
 //! navigation mode on the frozen map and models, the report and the figures.
 
 use std::fmt;
-use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
 use strider_explore::evaluate::{NavigationMode, TourResult};
 use strider_explore::registry::Configured;
-use strider_explore::{Mission, MissionLog, MissionParams, MissionProgress, TourExplorer};
+use strider_explore::{Mission, MissionLog, MissionProgress, TourExplorer};
 use strider_scenario::Scenario;
 
 use super::figures::write_figures;
@@ -17,30 +16,11 @@ use super::report::{
 };
 use crate::progress::Progress;
 use crate::report::write_reports;
-use crate::run::{Recorded, RunRequest, start};
-use crate::trial::{checked_time_limit, robot_spec, run_mission, run_tours};
+use crate::run::{Explored, MissionId, MissionRun, Recorded, RunRequest, start};
+use crate::trial::{robot_spec, run_mission, run_tours};
 
 /// A finished Prágr22 `strider run`.
-#[derive(Debug)]
-pub struct TourRun {
-    /// The report written.
-    pub report: RunReport,
-    /// Where `report.json` is.
-    pub path: PathBuf,
-    /// What was recorded to MCAP, if asked.
-    pub recorded: Option<Recorded>,
-}
-
-/// The mission parameters of the request.
-fn params(sc: &Scenario, req: &RunRequest, configured: &Configured) -> Result<MissionParams> {
-    let Some(mut params) = configured.tour_mission(&robot_spec(sc), req.seed) else {
-        bail!("{} is not a 001 strategy", configured.name());
-    };
-    if let Some(t) = req.time_limit {
-        params.time_limit_s = checked_time_limit(t)?;
-    }
-    Ok(params)
-}
+pub type TourRun = MissionRun<RunReport>;
 
 /// Runs the mission, the tours, and writes the report and figures into `req.out`.
 pub fn run_tour(
@@ -50,10 +30,12 @@ pub fn run_tour(
     progress: &dyn Progress,
 ) -> Result<TourRun> {
     let wall = Instant::now();
-    let params = params(sc, req, configured)?;
-    start(req.out, params.time_limit_s, progress)?;
+    let Some(mut params) = configured.tour_mission(&robot_spec(sc), req.seed) else {
+        bail!("{} is not a 001 strategy", configured.name());
+    };
+    start(req, &mut params.time_limit_s, progress)?;
     let (mission, log, written) = run_mission(sc, params, req.seed, req.mcap, |p| {
-        progress.at(p.time_s as u64, &mission_message(p));
+        progress.at(p.time_s as u64, &goals_message(p));
     })?;
     let tours = run_tours(
         sc,
@@ -67,7 +49,7 @@ pub fn run_tour(
     write_figures(&mission, &tours, req.out)?;
     let report = report(sc, req, configured, (&mission, &log), &tours, wall);
     let path = write_reports(req.out, &report, &mission, &tours)?;
-    Ok(TourRun {
+    Ok(MissionRun {
         report,
         path,
         recorded: Recorded::of(written.as_ref(), req.mcap),
@@ -75,7 +57,7 @@ pub fn run_tour(
 }
 
 /// The progress line of a Prágr22 mission.
-fn mission_message(p: &MissionProgress) -> String {
+fn goals_message(p: &MissionProgress) -> String {
     format!(
         "{} cells mapped, {} spatial + {} cost goals, {} learning pairs",
         p.observed_cells, p.spatial_goals, p.cost_goals, p.learning_set
@@ -91,18 +73,11 @@ fn report(
     wall: Instant,
 ) -> RunReport {
     let record = mission.record();
-    let map = mission.body().map();
     RunReport {
-        scenario: sc.name.clone(),
-        world_seed: req.world_seed,
-        seed: req.seed,
-        strategy: configured.name(),
+        id: MissionId::of(sc, req, configured.name()),
         parameters: configured.table(),
-        termination: format!("{:?}", record.termination),
-        exploration_time_s: record.exploration_time_s,
-        driven_m: record.driven_m,
-        observed_cells: map.observed_count(),
-        scans_fused: map.scan_count(),
+        explored: Explored::of(mission),
+        scans_fused: mission.body().map().scan_count(),
         phase_wall_s: log.phase_wall_s,
         models: models(mission, log),
         tours: tour_reports(tours),
@@ -130,17 +105,18 @@ fn report(
 impl fmt::Display for TourRun {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let r = &self.report;
+        let (id, ex) = (&r.id, &r.explored);
         if let Some(rec) = &self.recorded {
             writeln!(f, "{rec}")?;
         }
         writeln!(
             f,
             "{} ({}): {} after {:.0} s simulated, {:.1} m driven, {} replans (median {:.1} ms, max {:.1} ms), {:.0}x real time, {:.1} s wall -> {}",
-            r.scenario,
-            r.strategy,
-            r.termination,
-            r.exploration_time_s,
-            r.driven_m,
+            id.scenario,
+            id.strategy,
+            ex.termination,
+            ex.exploration_time_s,
+            ex.driven_m,
             r.replans,
             r.replan_latency_ms.median,
             r.replan_latency_ms.max,

@@ -30,10 +30,10 @@ use crate::io::{create_dir, write_json_bare, write_text};
 use crate::parallel::pool;
 use crate::progress::Progress;
 use crate::stats::median_max;
-use crate::trial::{checked_time_limit, load, mission_params, run_mission, run_tours};
+use crate::trial::{TrialRecord, checked_time_limit, load, mission_params, run_mission, run_tours};
 
-/// Options of `strider bench table5`.
-#[derive(Clone, Debug)]
+/// Options of `strider bench table5` (the first fields of `table5.json`).
+#[derive(Clone, Debug, Serialize)]
 pub struct Table5Options {
     /// Trials per row of the small world.
     pub trials: usize,
@@ -44,8 +44,10 @@ pub struct Table5Options {
     /// Parallel trials.
     pub jobs: usize,
     /// Mission time limit override, simulated seconds.
+    #[serde(rename = "time_limit_s")]
     pub time_limit: Option<f64>,
     /// Record every trial's mission to `DIR/<scenario>-<strategy>-w<world>-s<seed>.mcap`.
+    #[serde(skip)]
     pub mcap_dir: Option<PathBuf>,
 }
 
@@ -62,20 +64,9 @@ struct Task {
 /// What one trial measured.
 #[derive(Clone, Debug, Serialize)]
 pub struct TrialResult {
-    /// Scenario.
-    pub scenario: String,
-    /// Strategy.
-    pub strategy: String,
-    /// World seed.
-    pub world_seed: u64,
-    /// Mission seed.
-    pub seed: u64,
-    /// Why the exploration stopped.
-    pub termination: String,
-    /// Exploration time, simulated s.
-    pub exploration_time_s: f64,
-    /// Observed map cells.
-    pub observed_cells: usize,
+    /// Where it ran and how the exploration ended.
+    #[serde(flatten)]
+    pub trial: TrialRecord,
     /// Per benchmark tour (scenario order) and navigation mode: (tour, mode, total_s,
     /// completed).
     pub tours: Vec<Vec<(String, String, f64, bool)>>,
@@ -199,6 +190,7 @@ fn run_trials(
     });
     let mut trials = results.into_iter().collect::<Result<Vec<_>>>()?;
     trials.sort_by(|a, b| {
+        let (a, b) = (&a.trial, &b.trial);
         (&a.scenario, &a.strategy, a.seed).cmp(&(&b.scenario, &b.strategy, b.seed))
     });
     Ok(trials)
@@ -228,13 +220,12 @@ fn run_task(task: &Task, time_limit: Option<f64>, mcap_dir: Option<&Path>) -> Re
     };
     let (replan_ms_median, replan_ms_max) = median_max(&log.replan_ms);
     Ok(TrialResult {
-        scenario: task.scenario.to_string(),
-        strategy: task.strategy.name().to_string(),
-        world_seed: task.world_seed,
-        seed: task.seed,
-        termination: format!("{:?}", mission.record().termination),
-        exploration_time_s: mission.record().exploration_time_s,
-        observed_cells: mission.body().map().observed_count(),
+        trial: TrialRecord::of(
+            task.scenario,
+            task.strategy.name(),
+            (task.world_seed, task.seed),
+            &mission,
+        ),
         tours: tours
             .iter()
             .map(|(name, rs)| {
@@ -261,7 +252,7 @@ pub(crate) fn rows(trials: &[TrialResult]) -> Vec<Row> {
     let select = |sc: &str, st: Strategy| -> Vec<&TrialResult> {
         trials
             .iter()
-            .filter(|t| t.scenario == sc && t.strategy == st.name())
+            .filter(|t| t.trial.scenario == sc && t.trial.strategy == st.name())
             .collect()
     };
     let small = select("courtyard-small", Strategy::Gtsp);
@@ -279,7 +270,7 @@ pub(crate) fn rows(trials: &[TrialResult]) -> Vec<Row> {
     let expl = |name: &str, set: &[&TrialResult]| {
         Row::new(
             name.to_string(),
-            set.iter().map(|t| t.exploration_time_s).collect(),
+            set.iter().map(|t| t.trial.exploration_time_s).collect(),
             0,
         )
     };

@@ -7,7 +7,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::table5::{Table5Options, TrialResult, rows};
-use crate::stats::{Summary, mann_whitney_u, max, median_max, paired_win_fraction};
+use crate::stats::{MeanStd, Summary, mann_whitney_u, max, median_max, paired_win_fraction};
 
 /// Published values (Prágr22 Table 5): row, mean, std.
 const PUBLISHED: &[(&str, f64, f64)] = &[
@@ -63,15 +63,6 @@ const RELATIONS: [(&str, &str, &str); 7] = [
         "large exploration proposed",
     ),
 ];
-
-/// A published mean ± std.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct MeanStd {
-    /// Mean.
-    pub mean: f64,
-    /// Standard deviation.
-    pub std: f64,
-}
 
 /// Our summary of a row, in the key order `table5.json` has always had.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -214,16 +205,9 @@ pub struct LargeReplanMs {
 /// `table5.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct Table5Report {
-    /// Trials per row on the small world.
-    pub trials: usize,
-    /// Trials per row on the large world.
-    pub large_trials: usize,
-    /// World seeds cycled through.
-    pub world_seeds: u64,
-    /// Parallel trials.
-    pub jobs: usize,
-    /// Mission time limit override, s.
-    pub time_limit_s: Option<f64>,
+    /// The options the table was run with.
+    #[serde(flatten)]
+    pub options: Table5Options,
     /// The rows.
     pub rows: Vec<Row>,
     /// The relations.
@@ -241,16 +225,12 @@ impl Table5Report {
         let rows = rows(&trials);
         let large: Vec<&TrialResult> = trials
             .iter()
-            .filter(|t| t.scenario == "courtyard-large" && t.strategy == "gtsp")
+            .filter(|t| t.trial.scenario == "courtyard-large" && t.trial.strategy == "gtsp")
             .collect();
         let medians: Vec<f64> = large.iter().map(|t| t.replan_ms_median).collect();
         let worst: Vec<f64> = large.iter().map(|t| t.replan_ms_max).collect();
         Self {
-            trials: o.trials,
-            large_trials: o.large_trials,
-            world_seeds: o.world_seeds,
-            jobs: o.jobs,
-            time_limit_s: o.time_limit,
+            options: o.clone(),
             relations: relations(&rows),
             rows,
             large_replan_ms: LargeReplanMs {
@@ -266,20 +246,21 @@ impl Table5Report {
 /// `table5.md`: the rows beside the published figures, then the relations.
 pub fn markdown(r: &Table5Report) -> String {
     let mut md = String::new();
+    let o = &r.options;
     let _ = writeln!(
         md,
         "# `001` Table 5 reproduction\n\n{} small and {} large trials per row over {} world seeds \
          (`strider bench table5 --trials {} --large-trials {} --world-seeds {}`), {:.0} s wall on \
          {} jobs. Times in simulated seconds, mean ± std. Our simulator is not the paper's: the \
          orderings and rough ratios are what should reproduce.\n",
-        r.trials,
-        r.large_trials,
-        r.world_seeds,
-        r.trials,
-        r.large_trials,
-        r.world_seeds,
+        o.trials,
+        o.large_trials,
+        o.world_seeds,
+        o.trials,
+        o.large_trials,
+        o.world_seeds,
         r.wall_s,
-        r.jobs
+        o.jobs
     );
     let _ = writeln!(md, "| experiment | ours | published | incomplete tours |");
     let _ = writeln!(md, "|---|---|---|---|");
@@ -301,7 +282,7 @@ pub fn markdown(r: &Table5Report) -> String {
     let large_trials = r
         .trial_results
         .iter()
-        .any(|t| t.scenario == "courtyard-large" && t.strategy == "gtsp");
+        .any(|t| t.trial.scenario == "courtyard-large" && t.trial.strategy == "gtsp");
     let _ = writeln!(
         md,
         "\nReplanning latency on courtyard-large (goal identification is separate): median of \

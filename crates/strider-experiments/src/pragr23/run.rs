@@ -4,7 +4,6 @@
 //! bumper contacts, goals, and PNG figures.
 
 use std::fmt;
-use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Result;
@@ -20,8 +19,8 @@ use super::figures::write_figures;
 use super::trial::{EscapeTrial, SECTION_EXPLORED_FRACTION, SectionResult, run_escape};
 use crate::io::write_json_bare;
 use crate::progress::Progress;
-use crate::run::{Recorded, RunRequest, start};
-use crate::trial::{checked_time_limit, robot_spec};
+use crate::run::{Explored, MissionId, MissionRun, Recorded, RunRequest, start};
+use crate::trial::robot_spec;
 
 /// The apparent-obstacle cell states at one time (Prágr23 Fig. 11).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -76,24 +75,14 @@ pub struct HapticReport {
 /// `report.json` of `strider run --strategy escape|rigid`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct EscapeReport {
-    /// Scenario name.
-    pub scenario: String,
-    /// World seed.
-    pub world_seed: u64,
-    /// Mission seed.
-    pub seed: u64,
-    /// `escape` or `rigid`.
-    pub strategy: &'static str,
+    /// Which mission (strategy `escape` or `rigid`).
+    #[serde(flatten)]
+    pub id: MissionId,
     /// The strategy's parameters.
     pub parameters: toml::Table,
-    /// Why the exploration stopped.
-    pub termination: String,
-    /// Exploration time, simulated s.
-    pub exploration_time_s: f64,
-    /// Distance driven, m.
-    pub driven_m: f64,
-    /// Observed map cells.
-    pub observed_cells: usize,
+    /// How the exploration ended.
+    #[serde(flatten)]
+    pub explored: Explored,
     /// Sections explored.
     pub sections_explored: usize,
     /// The fraction of a section that must be mapped.
@@ -129,15 +118,7 @@ pub struct EscapeReport {
 }
 
 /// A finished `strider run --strategy escape|rigid`.
-#[derive(Debug)]
-pub struct EscapeRun {
-    /// The report written.
-    pub report: EscapeReport,
-    /// Where `report.json` is.
-    pub path: PathBuf,
-    /// What was recorded to MCAP, if asked.
-    pub recorded: Option<Recorded>,
-}
+pub type EscapeRun = MissionRun<EscapeReport>;
 
 /// Runs `strider run` for the `escape` and `rigid` strategies.
 pub fn run(
@@ -151,10 +132,7 @@ pub fn run(
     let mut params = table
         .escape_params(&robot_spec(sc), mode)
         .map_err(|e| anyhow::anyhow!("strategy {}: {e}", mode.name()))?;
-    if let Some(t) = req.time_limit {
-        params.time_limit_s = checked_time_limit(t)?;
-    }
-    start(req.out, params.time_limit_s, progress)?;
+    start(req, &mut params.time_limit_s, progress)?;
     let trial = run_escape(
         sc,
         params,
@@ -177,7 +155,7 @@ pub fn run(
     let report = report(sc, req, (mode, table), &trial, wall);
     let path = req.out.join("report.json");
     write_json_bare(&path, &report)?;
-    Ok(EscapeRun {
+    Ok(MissionRun {
         report,
         path,
         recorded: Recorded::of(trial.written.as_ref(), req.mcap),
@@ -194,15 +172,9 @@ fn report(
     let (run, esc, log) = (trial.mission.record(), trial.mission.strategy(), &trial.log);
     let map = trial.mission.body().map();
     EscapeReport {
-        scenario: sc.name.clone(),
-        world_seed: req.world_seed,
-        seed: req.seed,
-        strategy: mode.name(),
+        id: MissionId::of(sc, req, mode.name()),
         parameters: strider_explore::registry::typed::to_table(table),
-        termination: format!("{:?}", run.termination),
-        exploration_time_s: run.exploration_time_s,
-        driven_m: run.driven_m,
-        observed_cells: map.observed_count(),
+        explored: Explored::of(&trial.mission),
         sections_explored: trial.sections_explored(),
         section_explored_fraction: SECTION_EXPLORED_FRACTION,
         sections: trial.sections.clone(),
@@ -240,17 +212,18 @@ fn report(
 impl fmt::Display for EscapeRun {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let r = &self.report;
+        let (id, ex) = (&r.id, &r.explored);
         if let Some(rec) = &self.recorded {
             writeln!(f, "{rec}")?;
         }
         write!(
             f,
             "{} ({}): {} after {:.0} s simulated, {:.1} m driven, {}/{} sections explored, {} contacts ({} corrected), {:.1} s wall -> {}",
-            r.scenario,
-            r.strategy,
-            r.termination,
-            r.exploration_time_s,
-            r.driven_m,
+            id.scenario,
+            id.strategy,
+            ex.termination,
+            ex.exploration_time_s,
+            ex.driven_m,
             r.sections_explored,
             r.sections.len(),
             r.contacts.len(),

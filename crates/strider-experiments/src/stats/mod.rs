@@ -150,6 +150,23 @@ impl fmt::Display for Summary {
     }
 }
 
+/// A mean and a sample standard deviation (a published figure, or ours over seeds).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct MeanStd {
+    /// Mean.
+    pub mean: f64,
+    /// Sample standard deviation.
+    pub std: f64,
+}
+
+impl MeanStd {
+    /// Of the finite values of `xs` (NaN, NaN when there are none).
+    pub fn of_finite(xs: &[f64]) -> Self {
+        let (mean, std) = mean_std_finite(xs);
+        Self { mean, std }
+    }
+}
+
 /// Arithmetic mean; `None` for an empty sample.
 pub fn mean(xs: &[f64]) -> Option<f64> {
     (!xs.is_empty()).then(|| xs.iter().sum::<f64>() / xs.len() as f64)
