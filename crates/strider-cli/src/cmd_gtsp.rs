@@ -9,6 +9,8 @@ use serde_json::json;
 use strider_plan::tsplib::read_instance_file;
 use strider_plan::{Instance, Mode, Solution, SolverParams};
 
+use strider_experiments::stats;
+
 use crate::args::{GtspBenchArgs, SolveArgs};
 
 /// Parses a solver mode name.
@@ -196,25 +198,23 @@ fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
     {
         let path = dir.join(&r.file);
         let inst = read_instance(&path)?;
-        let (mut best, mut sum_gap, mut max_gap, mut time) =
-            (i64::MAX, 0.0, f64::NEG_INFINITY, 0.0);
-        let mut costs = Vec::new();
+        let (mut best, mut time) = (i64::MAX, 0.0);
+        let (mut costs, mut run_gaps) = (Vec::new(), Vec::new());
         for k in 0..o.runs {
             let sol = solve_checked(
                 &inst,
                 &params(o.time_limit, o.seed + k as u64, o.mode)?,
                 &path,
             )?;
-            let gap = 100.0 * (sol.cost - r.best_known) as f64 / r.best_known as f64;
-            gaps.push(gap);
+            run_gaps.push(100.0 * (sol.cost - r.best_known) as f64 / r.best_known as f64);
             best = best.min(sol.cost);
-            sum_gap += gap;
-            max_gap = max_gap.max(gap);
             time += sol.time_s;
             costs.push(sol.cost);
         }
+        let mean_gap = stats::mean(&run_gaps).unwrap_or(f64::NAN);
+        let max_gap = stats::max(&run_gaps).unwrap_or(f64::NEG_INFINITY);
+        gaps.extend(run_gaps);
         total_s += time;
-        let mean_gap = sum_gap / o.runs as f64;
         println!(
             "{:<12} {:>5} {:>5} {:>10} {:>10} {:>9.4} {:>9.4} {:>8.3}",
             r.name,
@@ -233,8 +233,8 @@ fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
         }));
     }
     let n = rows.len();
-    let mean = gaps.iter().sum::<f64>() / gaps.len().max(1) as f64;
-    let max = gaps.iter().copied().fold(0.0, f64::max);
+    let mean = stats::mean(&gaps).unwrap_or(0.0);
+    let max = stats::max(&gaps).unwrap_or(0.0).max(0.0);
     println!("instances={n} mean_gap_pct={mean:.4} max_gap_pct={max:.4} total_s={total_s:.2}");
     if let Some(out) = json_out {
         let doc = json!({

@@ -34,6 +34,7 @@ use strider_sim::{Heightfield, RangeSensor, ScanNoise};
 
 use crate::io::{write_json, write_text};
 use crate::pairs::{Probe, drive, gait_index, new_sink};
+use crate::stats::max;
 use crate::trial::section;
 pub use table::{C1Best, C1Cell, C1Report, PUBLISHED_C1, PassPairs};
 
@@ -164,11 +165,8 @@ fn record_c1(sc: &Scenario, seed: u64, stop_after: usize) -> Result<C1Trial> {
     let mut s2 = new_sink(sc, false, energy_probe(sc, window)?, 0.1, none);
     let pass2_seed = seed.wrapping_add(1_000_003);
     drive(sc, pass2_seed, &path, gait, &mut s2, stop_after)?;
-    let x_max = s2
-        .samples
-        .iter()
-        .map(|s| s.position.x)
-        .fold(f64::NEG_INFINITY, f64::max);
+    let xs: Vec<f64> = s2.samples.iter().map(|s| s.position.x).collect();
+    let x_max = max(&xs).unwrap_or(f64::NEG_INFINITY);
     let aerial = aerial_map(sc, seed.wrapping_add(2_000_003), x_max)?;
     let train = s1
         .samples

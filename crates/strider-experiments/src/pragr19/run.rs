@@ -27,6 +27,7 @@ use crate::io::write_json_bare;
 use crate::progress::Progress;
 use crate::render::{Canvas, line_chart, palette, scalar_canvas};
 use crate::run::{MissionRun, Recorded, RunRequest, learning_message, start};
+use crate::stats::{max, min};
 use crate::trial::{robot_spec, run_strategy};
 
 /// Terrains Prágr19 §V-B expects to be learned as easy and as hard.
@@ -82,8 +83,8 @@ pub fn terrain_check(sc: &Scenario, ex: &RbcmGreedy) -> (Vec<TerrainRow>, bool) 
             .collect()
     };
     let (easy, hard) = (mean_of(&EASY), mean_of(&HARD));
-    let easy_max = easy.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let hard_min = hard.iter().copied().fold(f64::INFINITY, f64::min);
+    let easy_max = max(&easy).unwrap_or(f64::NEG_INFINITY);
+    let hard_min = min(&hard).unwrap_or(f64::INFINITY);
     let learned = easy.len() + hard.len() == EASY.len() + HARD.len() && easy_max < hard_min;
     (rows, learned)
 }

@@ -12,7 +12,7 @@ use strider_scenario::Scenario;
 use super::stream::StreamOptions;
 use crate::io::ordered_map;
 use crate::render::{Canvas, compose, label, line_chart, palette};
-use crate::stats::{column_means, column_stds};
+use crate::stats::{column_means, column_stds, max};
 
 /// Stream sizes at which the report gives the per-step times.
 pub const REPORT_AT: [usize; 3] = [50, 150, 300];
@@ -150,9 +150,7 @@ fn spike_after_new_experts(rmse: &[f64], m_max: usize) -> f64 {
     let mut start = m_max; // 0-based index of step m_max + 1
     while start < rmse.len() {
         let before = rmse[start - 1];
-        let peak = rmse[start..(start + 10).min(rmse.len())]
-            .iter()
-            .fold(f64::NEG_INFINITY, |a, &b| a.max(b));
+        let peak = max(&rmse[start..(start + 10).min(rmse.len())]).unwrap_or(f64::NEG_INFINITY);
         worst = worst.max(peak - before);
         start += m_max;
     }

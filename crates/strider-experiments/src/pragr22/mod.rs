@@ -11,6 +11,4 @@ mod table5_report;
 pub use figures::write_figures;
 pub use run::{TourRun, run_tour};
 pub use table5::{Table5, Table5Options, TrialResult, table5};
-pub use table5_report::{
-    LargeReplanMs, MannWhitneyReport, Ours, Relation, Row, Table5Report, markdown,
-};
+pub use table5_report::{LargeReplanMs, MannWhitneyReport, Relation, Row, Table5Report, markdown};

@@ -64,43 +64,13 @@ const RELATIONS: [(&str, &str, &str); 7] = [
     ),
 ];
 
-/// Our summary of a row, in the key order `table5.json` has always had.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Ours {
-    /// Values.
-    pub n: usize,
-    /// Mean.
-    pub mean: f64,
-    /// Sample standard deviation.
-    pub std: f64,
-    /// Median.
-    pub median: f64,
-    /// Smallest value.
-    pub min: f64,
-    /// Largest value.
-    pub max: f64,
-}
-
-impl From<Summary> for Ours {
-    fn from(s: Summary) -> Self {
-        Self {
-            n: s.n,
-            mean: s.mean,
-            std: s.std,
-            median: s.median,
-            min: s.min,
-            max: s.max,
-        }
-    }
-}
-
 /// One row of the table: our trials' values beside the published figure.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Row {
     /// The row's name.
     pub row: String,
     /// Summary of our values (`null` without any).
-    pub ours: Option<Ours>,
+    pub ours: Option<Summary>,
     /// Tours that did not reach every waypoint (their times are in the values).
     pub incomplete_tours: usize,
     /// The published figure.
@@ -116,7 +86,7 @@ impl Row {
             std: p.2,
         });
         Self {
-            ours: Summary::of(&values).ok().map(Ours::from),
+            ours: Summary::of(&values).ok(),
             row,
             incomplete_tours,
             published,

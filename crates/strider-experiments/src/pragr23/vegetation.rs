@@ -19,12 +19,15 @@ use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use rand_distr::StandardNormal;
 use strider_core::{Cell, Rgb8};
-use strider_explore::escape::force_predictor::{ForcePredictor, PredictorParams, describe};
+use strider_explore::escape::force_predictor::{
+    ForcePrediction, ForcePredictor, PredictorParams, describe,
+};
 use strider_explore::escape::haptic::{BumperFilter, HapticModel, HapticParams};
 use strider_map::{ElevationMap, MapParams};
 use strider_sim::BumperCalibration;
 
 use crate::io::{create_dir, write_json_bare, write_text};
+use crate::stats::mean;
 
 /// One terrain of C4 §5.3.
 #[derive(Clone, Debug)]
@@ -219,9 +222,11 @@ pub fn run(p: &VegetationParams) -> anyhow::Result<Vec<VegetationRow>> {
                     .filter_map(|c| describe(&map, *c, &pred_params))
                     .filter_map(|d| pred.predict(&d))
                     .collect();
-                let m = ps.len().max(1) as f64;
-                entropy.push(ps.iter().map(|p| p.entropy).sum::<f64>() / m);
-                force.push(ps.iter().map(|p| p.mean).sum::<f64>() / m);
+                let mean_of = |f: fn(&ForcePrediction) -> f64| {
+                    mean(&ps.iter().map(f).collect::<Vec<f64>>()).unwrap_or(0.0)
+                };
+                entropy.push(mean_of(|p| p.entropy));
+                force.push(mean_of(|p| p.mean));
             }
             rows.push(VegetationRow {
                 order: order.to_vec(),

@@ -126,7 +126,7 @@ impl Summary {
     pub fn of(xs: &[f64]) -> Result<Summary, StatsError> {
         validate("x", xs)?;
         let n = xs.len();
-        let mean = xs.iter().sum::<f64>() / n as f64;
+        let mean = mean_of_nonempty(xs);
         let sorted = sorted(xs);
         Ok(Summary {
             n,
@@ -169,7 +169,7 @@ impl MeanStd {
 
 /// Arithmetic mean; `None` for an empty sample.
 pub fn mean(xs: &[f64]) -> Option<f64> {
-    (!xs.is_empty()).then(|| xs.iter().sum::<f64>() / xs.len() as f64)
+    (!xs.is_empty()).then(|| mean_of_nonempty(xs))
 }
 
 /// Median (the module's convention: the mean of the two middle values for an even count);
@@ -189,9 +189,14 @@ pub fn mean_population_variance(xs: &[f64]) -> Option<(f64, f64)> {
     Some((m, sum_squared_deviations(xs, m) / xs.len() as f64))
 }
 
-/// Largest value; `None` for an empty sample.
+/// Largest value (NaNs ignored); `None` for an empty sample.
 pub fn max(xs: &[f64]) -> Option<f64> {
     xs.iter().copied().reduce(f64::max)
+}
+
+/// Smallest value (NaNs ignored); `None` for an empty sample.
+pub fn min(xs: &[f64]) -> Option<f64> {
+    xs.iter().copied().reduce(f64::min)
 }
 
 /// Mean and sample standard deviation of the finite values (NaN, NaN when there are none).
@@ -202,16 +207,11 @@ pub fn mean_std_finite(xs: &[f64]) -> (f64, f64) {
 
 /// (median, max) of a series of latencies; (0, 0) when there are none.
 pub fn median_max(xs: &[f64]) -> (f64, f64) {
-    let Some(&last) = sorted(xs).last() else {
-        return (0.0, 0.0);
-    };
-    (upper_median(xs), last)
-}
-
-/// The upper of the two middle values.
-fn upper_median(xs: &[f64]) -> f64 {
     let s = sorted(xs);
-    s[s.len() / 2]
+    match s.last() {
+        Some(&last) => (median_of_sorted(&s), last),
+        None => (0.0, 0.0),
+    }
 }
 
 /// Per position, the mean over `rows` (positions up to the shortest row).
@@ -236,6 +236,10 @@ fn columns(rows: &[Vec<f64>]) -> Vec<Vec<f64>> {
     (0..n)
         .map(|k| rows.iter().map(|r| r[k]).collect())
         .collect()
+}
+
+fn mean_of_nonempty(xs: &[f64]) -> f64 {
+    xs.iter().sum::<f64>() / xs.len() as f64
 }
 
 fn sorted(xs: &[f64]) -> Vec<f64> {
@@ -265,5 +269,43 @@ fn std_about(xs: &[f64], mean: f64) -> f64 {
         (sum_squared_deviations(xs, mean) / (xs.len() as f64 - 1.0)).sqrt()
     } else {
         0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_is_the_mean_of_the_two_middle_values_everywhere() {
+        let v = [4.0, 1.0, 3.0, 2.0];
+        assert_eq!(median(&v), Some(2.5));
+        assert_eq!(median_max(&v), (2.5, 4.0));
+        assert_eq!(Summary::of(&v).unwrap().median, 2.5);
+        assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(&[]), None);
+        assert_eq!(median_max(&[]), (0.0, 0.0));
+    }
+
+    #[test]
+    fn plain_statistics() {
+        let v = [1.0, 2.0, 3.0, 6.0];
+        assert_eq!(mean(&v), Some(3.0));
+        assert_eq!(mean(&[]), None);
+        assert_eq!(sample_std(&[5.0]), Some(0.0));
+        assert!((sample_std(&v).unwrap() - (14.0f64 / 3.0).sqrt()).abs() < 1e-12);
+        assert_eq!(mean_population_variance(&v), Some((3.0, 3.5)));
+        assert_eq!((min(&v), max(&v)), (Some(1.0), Some(6.0)));
+        assert_eq!(mean_std_finite(&[f64::NAN, 2.0, 4.0]).0, 3.0);
+        assert!(mean_std_finite(&[f64::NAN]).0.is_nan());
+    }
+
+    #[test]
+    fn column_statistics_stop_at_the_shortest_row() {
+        let rows = vec![vec![1.0, 2.0, 9.0], vec![3.0, 6.0]];
+        assert_eq!(column_means(&rows), vec![2.0, 4.0]);
+        let s = column_stds(&rows);
+        assert!((s[0] - 2f64.sqrt()).abs() < 1e-12 && (s[1] - 8f64.sqrt()).abs() < 1e-12);
+        assert_eq!(column_stds(&rows[..1]), vec![0.0, 0.0, 0.0]);
     }
 }
