@@ -30,8 +30,3 @@ where
 {
     s.collect_map(pairs.iter().map(|(k, v)| (k, v)))
 }
-
-/// Writes `value` as pretty JSON without a final newline.
-pub fn write_json_bare(path: &Path, value: &impl Serialize) -> anyhow::Result<()> {
-    write_text(path, &serde_json::to_string_pretty(value)?)
-}

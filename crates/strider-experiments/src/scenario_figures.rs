@@ -8,7 +8,7 @@ use serde_json::json;
 use strider_map::Passability;
 use strider_scenario::Scenario;
 
-use crate::io::{create_dir, write_json_bare};
+use crate::io::{create_dir, write_json};
 use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
 use crate::trial::load;
 
@@ -73,6 +73,6 @@ pub fn render(arg: &str, world_seed: u64, out: &Path) -> Result<Scenario> {
         "passability_png": "black: impassable (step > rho_obstacle); light: admissible for the robot centre; mid gray: passable but within r_robot of an obstacle",
         "tours": sc.tours.iter().map(|t| json!({"name": t.name, "waypoints": t.waypoints.len()})).collect::<Vec<_>>(),
     });
-    write_json_bare(&out.join("render.json"), &legend)?;
+    write_json(&out.join("render.json"), &legend)?;
     Ok(sc)
 }

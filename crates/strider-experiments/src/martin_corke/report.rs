@@ -13,7 +13,7 @@ use super::{
     PUBLISHED_CONVERGED_J, PUBLISHED_CONVERGENCE, PUBLISHED_CUMULATIVE_7, PUBLISHED_FIRST_J,
     PUBLISHED_OVERTAKE, SeedRun,
 };
-use crate::io::{write_json_bare, write_text};
+use crate::io::{write_json, write_text};
 
 /// The loop's parameters as run.
 #[derive(Clone, Debug, Serialize)]
@@ -268,7 +268,7 @@ pub(crate) fn write_seed(
         cumulative_exploring_j: s.cumulative.iter().map(|c| c.0).collect(),
         cumulative_always_shortest_j: s.cumulative.iter().map(|c| c.1).collect(),
     };
-    write_json_bare(&dir.join("energy_per_tour.json"), &series)?;
+    write_json(&dir.join("energy_per_tour.json"), &series)?;
     let report = ToursReport {
         scenario: sc.name.clone(),
         world_seed: sc.world_seed,
@@ -284,7 +284,7 @@ pub(crate) fn write_seed(
             tours: fixed(&r.known),
         },
     };
-    write_json_bare(&dir.join("tours.json"), &report)?;
+    write_json(&dir.join("tours.json"), &report)?;
     write_text(&dir.join("tours.md"), &markdown(sc, r, s))
 }
 
@@ -562,6 +562,6 @@ pub(crate) fn write_summary(
     rows: &[(u64, &SeedFigures)],
 ) -> anyhow::Result<()> {
     let report = SummaryReport::new(sc, rows);
-    write_json_bare(&out.join("summary.json"), &report)?;
+    write_json(&out.join("summary.json"), &report)?;
     write_text(&out.join("summary.md"), &report.markdown(rows))
 }

@@ -37,7 +37,7 @@ use strider_explore::navigate::{ModelKind, NavigateParams, NavigationLog, Object
 use strider_plan::grid::lcb::{LcbParams, Rectifier};
 use strider_sim::Simulator;
 
-use crate::io::{create_dir, write_json_bare, write_text};
+use crate::io::{create_dir, write_json, write_text};
 use crate::parallel::pool;
 use crate::progress::Progress;
 pub use report::NavigateReport;
@@ -184,7 +184,7 @@ pub fn run(o: &NavigateOptions, progress: &dyn Progress) -> Result<Navigation> {
     let groups = groups(&sites, &jobs, &units, logs)?;
     figures::write_figures(&sites[0], &groups, &o.out)?;
     let wall_s = wall.elapsed().as_secs_f64();
-    write_json_bare(
+    write_json(
         &o.out.join("navigate.json"),
         &NavigateReport::new(o, &groups, wall_s),
     )?;

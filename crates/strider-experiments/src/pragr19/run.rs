@@ -23,7 +23,7 @@ use strider_explore::registry::RbcmTable;
 use strider_scenario::Scenario;
 
 use super::report::{RbcmReport, TerrainRow, report};
-use crate::io::write_json_bare;
+use crate::io::write_json;
 use crate::progress::Progress;
 use crate::render::{Canvas, line_chart, palette, scalar_canvas};
 use crate::run::{MissionRun, Recorded, RunRequest, learning_message, start};
@@ -132,7 +132,7 @@ pub fn run(
     report.warnings = warnings;
     write_figures(&mission, ex.log(), req.out)?;
     let path = req.out.join("report.json");
-    write_json_bare(&path, &report)?;
+    write_json(&path, &report)?;
     Ok(MissionRun {
         report,
         path,

@@ -26,7 +26,7 @@ use strider_explore::Strategy;
 use strider_explore::evaluate::NavigationMode;
 
 use super::table5_report::{Row, Table5Report, markdown};
-use crate::io::{create_dir, write_json_bare, write_text};
+use crate::io::{create_dir, write_json, write_text};
 use crate::parallel::pool;
 use crate::progress::Progress;
 use crate::stats::median_max;
@@ -112,7 +112,7 @@ pub fn table5(o: &Table5Options, out: &Path, progress: &dyn Progress) -> Result<
     let trials = run_trials(o, &tasks, progress)?;
     let report = Table5Report::new(o, trials, wall);
     let json = out.join("table5.json");
-    write_json_bare(&json, &report)?;
+    write_json(&json, &report)?;
     let markdown = markdown(&report);
     let md = out.join("table5.md");
     write_text(&md, &markdown)?;

@@ -17,7 +17,7 @@ use strider_scenario::Scenario;
 
 use super::figures::write_figures;
 use super::trial::{EscapeTrial, SECTION_EXPLORED_FRACTION, SectionResult, run_escape};
-use crate::io::write_json_bare;
+use crate::io::write_json;
 use crate::progress::Progress;
 use crate::run::{Explored, MissionId, MissionRun, Recorded, RunRequest, start};
 use crate::trial::robot_spec;
@@ -154,7 +154,7 @@ pub fn run(
     write_figures(&trial.mission, &trial.log, req.out)?;
     let report = report(sc, req, (mode, table), &trial, wall);
     let path = req.out.join("report.json");
-    write_json_bare(&path, &report)?;
+    write_json(&path, &report)?;
     Ok(MissionRun {
         report,
         path,

@@ -26,7 +26,7 @@ use strider_explore::escape::haptic::{BumperFilter, HapticModel, HapticParams};
 use strider_map::{ElevationMap, MapParams};
 use strider_sim::BumperCalibration;
 
-use crate::io::{create_dir, write_json_bare, write_text};
+use crate::io::{create_dir, write_json, write_text};
 use crate::stats::mean;
 
 /// One terrain of C4 §5.3.
@@ -280,7 +280,7 @@ pub fn bench(out: &Path) -> anyhow::Result<String> {
     );
     create_dir(out)?;
     write_text(&out.join("c4_vegetation.md"), &md)?;
-    write_json_bare(&out.join("c4_vegetation.json"), &rows)?;
+    write_json(&out.join("c4_vegetation.json"), &rows)?;
     Ok(md)
 }
 

@@ -10,7 +10,7 @@ use serde::Serialize;
 use strider_explore::evaluate::TourResult;
 use strider_explore::{Mission, TourExplorer};
 
-use crate::io::{write_json_bare, write_text};
+use crate::io::{write_json, write_text};
 pub use html::report_html;
 
 /// Writes `report.json` and `report.html` (for `mission`'s gaits and the driven `tours`) into
@@ -22,7 +22,7 @@ pub fn write_reports(
     tours: &[(String, Vec<TourResult>)],
 ) -> Result<PathBuf> {
     let path = out.join("report.json");
-    write_json_bare(&path, report)?;
+    write_json(&path, report)?;
     let gait_names: Vec<String> = mission
         .strategy()
         .params()
