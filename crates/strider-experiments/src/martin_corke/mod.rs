@@ -78,6 +78,25 @@ pub struct ToursOptions {
     pub out: PathBuf,
 }
 
+impl ToursOptions {
+    /// The command that reproduces the tours of noise seed `seed` (`None`: of every seed).
+    pub fn command(&self, seed: Option<u64>) -> String {
+        let seeds = match seed {
+            Some(_) => String::new(),
+            None => format!(" --seeds {}", self.seeds),
+        };
+        let tours = self
+            .tours
+            .map_or(String::new(), |n| format!(" --tours {n}"));
+        format!(
+            "strider tours --scenario {} --world-seed {} --seed {}{seeds}{tours}",
+            self.scenario,
+            self.world_seed,
+            seed.unwrap_or(self.seed)
+        )
+    }
+}
+
 /// Loop parameters from a scenario: its first tour, bounds and map cell size, the robot's first
 /// gait, speed, hotel load and mass, its streams' rates, and the optional keys of its
 /// `[strategy.tours]` section (module docs).
@@ -268,7 +287,7 @@ pub fn tours(o: &ToursOptions) -> Result<Vec<SeedLine>> {
         };
         create_dir(&dir)?;
         let figures = SeedFigures::of(r);
-        report::write_seed(&sc, &p, r, &figures, &dir)?;
+        report::write_seed(&sc, &p, (r, &figures), &o.command(Some(r.seed)), &dir)?;
         figures::write(r, &figures, &dir)?;
         lines.push(SeedLine {
             scenario: sc.name.clone(),
@@ -280,7 +299,7 @@ pub fn tours(o: &ToursOptions) -> Result<Vec<SeedLine>> {
     }
     if runs.len() > 1 {
         let rows: Vec<(u64, &SeedFigures)> = lines.iter().map(|l| (l.seed, &l.figures)).collect();
-        report::write_summary(&sc, &o.out, &rows)?;
+        report::write_summary(&sc, &o.out, &rows, &o.command(None))?;
     }
     Ok(lines)
 }

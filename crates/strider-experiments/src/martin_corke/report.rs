@@ -251,12 +251,13 @@ fn seed_summary(r: &SeedRun, s: &SeedFigures) -> SeedSummary {
     }
 }
 
-/// Writes `energy_per_tour.json`, `tours.json` and `tours.md` of one seed into `dir`.
+/// Writes `energy_per_tour.json`, `tours.json` and `tours.md` (produced by `command`) of one
+/// seed into `dir`.
 pub(crate) fn write_seed(
     sc: &Scenario,
     p: &EnergyTourParams,
-    r: &SeedRun,
-    s: &SeedFigures,
+    (r, s): (&SeedRun, &SeedFigures),
+    command: &str,
     dir: &Path,
 ) -> anyhow::Result<()> {
     let t = &r.outcome.tours;
@@ -285,15 +286,15 @@ pub(crate) fn write_seed(
         },
     };
     write_json(&dir.join("tours.json"), &report)?;
-    write_text(&dir.join("tours.md"), &markdown(sc, r, s))
+    write_text(&dir.join("tours.md"), &markdown(sc, r, s, command))
 }
 
 /// `tours.md`: our figures beside the published ones, then every tour.
-fn markdown(sc: &Scenario, r: &SeedRun, s: &SeedFigures) -> String {
+fn markdown(sc: &Scenario, r: &SeedRun, s: &SeedFigures, command: &str) -> String {
     let mut m = String::new();
     let _ = writeln!(
         m,
-        "# `003` repeated tours: {} (world seed {}, seed {})\n",
+        "# `003` repeated tours: {} (world seed {}, seed {})\n\nProduced by `{command}`.\n",
         sc.name, sc.world_seed, r.seed
     );
     let _ = writeln!(m, "| figure | ours | published (`003`) |");
@@ -504,12 +505,12 @@ impl SummaryReport {
     }
 
     /// `summary.md`: one row per seed beside the published figures, then the counts.
-    fn markdown(&self, rows: &[(u64, &SeedFigures)]) -> String {
+    fn markdown(&self, rows: &[(u64, &SeedFigures)], command: &str) -> String {
         let mut m = String::new();
         let n = self.counts.of;
         let _ = writeln!(
             m,
-            "# `003` repeated tours over {n} seeds: {} (world seed {})\n",
+            "# `003` repeated tours over {n} seeds: {} (world seed {})\n\nProduced by `{command}`.\n",
             self.scenario, self.world_seed
         );
         let _ = writeln!(
@@ -555,13 +556,15 @@ impl SummaryReport {
     }
 }
 
-/// Writes `summary.json` and `summary.md` over the seeds `rows` into `out`.
+/// Writes `summary.json` and `summary.md` (produced by `command`) over the seeds `rows` into
+/// `out`.
 pub(crate) fn write_summary(
     sc: &Scenario,
     out: &Path,
     rows: &[(u64, &SeedFigures)],
+    command: &str,
 ) -> anyhow::Result<()> {
     let report = SummaryReport::new(sc, rows);
     write_json(&out.join("summary.json"), &report)?;
-    write_text(&out.join("summary.md"), &report.markdown(rows))
+    write_text(&out.join("summary.md"), &report.markdown(rows, command))
 }

@@ -144,6 +144,32 @@ impl fmt::Display for Navigation {
     }
 }
 
+impl NavigateOptions {
+    /// The command that reproduces the experiment.
+    pub fn command(&self) -> String {
+        let list = |v: Vec<String>| v.join(",");
+        let aerial = self
+            .aerial
+            .as_ref()
+            .map_or(String::new(), |p| format!(" --aerial {}", p.display()));
+        format!(
+            "strider navigate --scenario {} --sites {} --seed {} --seeds {} --runs {} --objectives {} --lambda {}{aerial}",
+            self.scenario,
+            list(self.sites.iter().map(|s| s.to_string()).collect()),
+            self.seed,
+            self.seeds,
+            self.runs,
+            list(
+                self.objectives
+                    .iter()
+                    .map(|o| o.name().to_string())
+                    .collect()
+            ),
+            self.lambda
+        )
+    }
+}
+
 fn check(o: &NavigateOptions) -> Result<()> {
     if o.runs == 0 {
         bail!("--runs must be at least 1");

@@ -299,6 +299,7 @@ pub(crate) fn markdown(o: &NavigateOptions, groups: &[Group], wall_s: f64) -> St
         o.runs,
         o.lambda
     );
+    let _ = write!(md, "Produced by `{}`. ", o.command());
     md.push_str(
         "Figures are mean ± sample std over seeds. RMSE = √(mean over admissible cells of \
          (μ − f)²) and Mahalanobis D = √(Σ over admissible cells of (μ − f)²/σ²) of the model \

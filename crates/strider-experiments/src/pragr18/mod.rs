@@ -52,6 +52,19 @@ pub struct C1Options {
 }
 
 impl C1Options {
+    /// The command that reproduces the table.
+    pub fn command(&self) -> String {
+        let pairs = if self.pairs == 0 {
+            String::new()
+        } else {
+            format!(" --c1-pairs {}", self.pairs)
+        };
+        format!(
+            "strider learn bench --protocol c1 --c1-runs {}{pairs} --seed {}",
+            self.runs, self.seed
+        )
+    }
+
     /// Checks the options before anything runs.
     pub fn check(&self) -> Result<()> {
         if self.runs == 0 {
@@ -82,7 +95,7 @@ pub fn c1_bench(o: &C1Options) -> Result<C1Report> {
     let record_s = t0.elapsed().as_secs_f64();
     let cells = table::cells(&trials)?;
     let report = C1Report::new(&sc, o, &trials, cells, record_s, t0);
-    write_text(&o.out.join("c1_table.md"), &report.markdown())?;
+    write_text(&o.out.join("c1_table.md"), &report.markdown(&o.command()))?;
     write_json(&o.out.join("c1_table.json"), &report)?;
     Ok(report)
 }

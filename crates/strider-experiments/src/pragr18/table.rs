@@ -310,11 +310,12 @@ impl C1Report {
             })
     }
 
-    /// `c1_table.md`: every cell beside the published one, the best in bold.
-    pub fn markdown(&self) -> String {
-        let mut md = String::from(
+    /// `c1_table.md`: every cell beside the published one, the best in bold; `command` is what
+    /// produced it.
+    pub fn markdown(&self, command: &str) -> String {
+        let mut md = format!(
             "# Thesis C1 Table I on `cot-track`: |CoT error| per learner × descriptor\n\n\
-Learned on pass 1 (robot's view), predicted on pass 2 (aerial view); incremental learners (IGMN, \
+Produced by `{command}`. Learned on pass 1 (robot's view), predicted on pass 2 (aerial view); incremental learners (IGMN, \
 RBCM) also score their query-before-learning predictions on pass 1, as in the thesis.\n\n\
 | learner | colour | geometry | mean | variance | n | published mean / variance |\n|---|---|---|---:|---:|---:|---|\n",
         );

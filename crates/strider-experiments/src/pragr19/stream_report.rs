@@ -285,6 +285,79 @@ impl StreamReport {
     }
 }
 
+impl StreamReport {
+    /// The command that reproduces the report.
+    pub fn command(&self) -> String {
+        format!(
+            "strider learn bench --protocol stream --reps {} --streams {} --pairs {} --seed {}",
+            self.reps, self.streams, self.pairs_target, self.seed
+        )
+    }
+
+    /// `learn_bench.md`: per learner the figures at the report's stream sizes, then the
+    /// findings of Prágr19 §V-A measured.
+    pub fn markdown(&self) -> String {
+        let ks: Vec<usize> = REPORT_AT
+            .iter()
+            .copied()
+            .filter(|&k| k <= self.pairs)
+            .collect();
+        let at = ks
+            .iter()
+            .map(|k| k.to_string())
+            .collect::<Vec<_>>()
+            .join(" / ");
+        let mut m = format!(
+            "# Prágr19 §V-A: incremental learners on `{}` (Fig. 5)\n\n\
+             Produced by `{}`: {} repetitions on {} recorded streams of {} (descriptor, roll \
+             variance) pairs. Per-step means over the repetitions; times are wall-clock per \
+             thread, so they depend on the machine. The four curves of Fig. 5 are in \
+             `learn_bench.png`, every step in `learn_bench.json`.\n\n\
+             | learner | learn ms at n = {at} | infer ms at n = {at} | RMSE at n = {at} | final RMSE | RMSE spike after new experts | total learning s |\n\
+             |---|---|---|---|---|---|---|\n",
+            self.scenario,
+            self.command(),
+            self.reps,
+            self.streams,
+            self.pairs
+        );
+        for (label, l) in &self.learners {
+            let row = |f: fn(&AtStep) -> f64, scale: f64, digits: usize| {
+                l.at.iter()
+                    .map(|(_, a)| format!("{:.digits$}", f(a) * scale))
+                    .collect::<Vec<_>>()
+                    .join(" / ")
+            };
+            let opt = |v: Option<f64>| v.map_or("–".into(), |v| format!("{v:.5}"));
+            m.push_str(&format!(
+                "| {label} | {} | {} | {} | {} | {} | {:.2} |\n",
+                row(|a| a.learn_s, 1e3, 3),
+                row(|a| a.infer_s, 1e3, 3),
+                row(|a| a.rmse, 1.0, 5),
+                opt(l.final_rmse),
+                opt(l.rmse_spike_after_new_experts),
+                l.total_learn_s
+            ));
+        }
+        let f = &self.findings;
+        m.push_str(&format!(
+            "\n| finding (Prágr19 §V-A) | ours |\n|---|---|\n\
+             | RBCM (exponential) learning time, last step over step 50 | {:.2} |\n\
+             | full GP learning time, last step over step 50 | {:.2} |\n\
+             | RMSE spike after new experts, m_min 25 / m_min 1 | {:.5} / {:.5} |\n\
+             | fastest learner (total learning time) | {} |\n\
+             | learners without a predictive confidence | {} |\n",
+            f.rbcm_exp_learn_ratio_last_over_50,
+            f.gp_exp_learn_ratio_last_over_50,
+            f.rmse_spike_with_m_min_25,
+            f.rmse_spike_with_m_min_1,
+            f.fastest_learner_total_learning_time,
+            f.learners_without_confidence.join(", ")
+        ));
+        m
+    }
+}
+
 impl fmt::Display for StreamReport {
     /// The one-line summary for the terminal.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

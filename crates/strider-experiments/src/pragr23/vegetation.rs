@@ -274,7 +274,7 @@ pub fn bench(out: &Path) -> anyhow::Result<String> {
     let rows = run(&VegetationParams::default())?;
     let thr = PredictorParams::histogram().entropy_threshold;
     let md = format!(
-        "Test-set prediction entropy H (mean predicted force F) per terrain after each \
+        "Produced by `strider learn c4-vegetation`. Test-set prediction entropy H (mean predicted force F) per terrain after each \
          presentation; * marks H < {thr} nat (terrain known).\n\n{}",
         markdown(&rows, thr)
     );
