@@ -40,11 +40,13 @@ pub enum Command {
     /// Exact Gaussian-process regression (the traversal-cost model) on CSV files.
     #[command(subcommand)]
     Gp(GpCommand),
-    /// `003`: energy-optimal repeated tours on `energy-arena` — learn a zero-mean GP map of energy
-    /// per metre while driving the same waypoints again and again, re-planning the tour each time.
+    /// MartinCorke: energy-optimal repeated tours on `energy-arena` — learn a zero-mean GP map
+    /// of energy per metre while driving the same waypoints again and again, re-planning the
+    /// tour each time.
     Tours(ToursArgs),
-    /// `004`: repeated start–goal navigation on `bonn-paths` with a GP mixture model (mean-shift
-    /// gating, optionally aerial-image gating classifiers) and a softplus lower-confidence-bound cost.
+    /// Nardi19: repeated start–goal navigation on `bonn-paths` with a GP mixture model
+    /// (mean-shift gating, optionally aerial-image gating classifiers) and a softplus
+    /// lower-confidence-bound cost.
     Navigate(NavigateArgs),
     /// Mission-level benchmarks that reproduce the papers' tables.
     #[command(subcommand)]
@@ -56,13 +58,13 @@ pub enum Command {
 
 #[derive(Subcommand, Debug)]
 pub enum LearnCommand {
-    /// Learner benchmarks: `000` §V-A (incremental stream on lab-track: learning and inference
+    /// Learner benchmarks: Prágr19 §V-A (incremental stream on lab-track: learning and inference
     /// time per step, RMSE and predictive std over n, for RBCM with four kernels, the full GP,
-    /// IGMN and a regression tree; DIR/learn_bench.json and .png) and thesis C1 Table I (cost of
+    /// IGMN and a regression tree; DIR/learn_bench.json and .png) and Prágr18 Table I (cost of
     /// transport learned on one pass of cot-track and predicted from an aerial view, per learner ×
     /// descriptor; DIR/c1_table.md and .json).
     Bench(LearnBenchArgs),
-    /// Thesis C4 §5.3 (Table 5): the GP force predictor on four outdoor terrains with the 8-bin
+    /// Prágr23 §5.3 (Table 5): the GP force predictor on four outdoor terrains with the 8-bin
     /// histogram, presented in three orders; prints the test entropies and writes
     /// DIR/c4_vegetation.md and .json.
     C4Vegetation(VegetationArgs),
@@ -70,7 +72,7 @@ pub enum LearnCommand {
 
 #[derive(Subcommand, Debug)]
 pub enum BenchCommand {
-    /// Reproduce `001` Table 5: small tours 1 and 2 in three navigation modes, small
+    /// Reproduce Prágr22 Table 5: small tours 1 and 2 in three navigation modes, small
     /// exploration GTSP vs greedy, large tour and exploration proposed vs spatial-only; writes
     /// DIR/table5.json and DIR/table5.md with our figures beside the published ones.
     Table5(Table5Args),
@@ -397,7 +399,7 @@ pub struct NavigateArgs {
     /// Number of consecutive seeds per site, from `--seed` (the acceptance sweep uses 10).
     #[arg(long, default_value_t = 1)]
     pub seeds: u64,
-    /// Runs per task (`004`: 25).
+    /// Runs per task (Nardi19: 25).
     #[arg(long, default_value_t = 25)]
     pub runs: usize,
     /// Objectives of the start-goal experiment: comma-separated `vibration`, `energy`.
@@ -418,24 +420,24 @@ pub struct NavigateArgs {
 /// Arguments of `strider learn bench`.
 #[derive(Args, Debug)]
 pub struct LearnBenchArgs {
-    /// Which protocol: stream (`000` §V-A), c1 (thesis C1 Table I) or all.
+    /// Which protocol: stream (Prágr19 §V-A), c1 (Prágr18 Table I) or all.
     #[arg(long, default_value = "all")]
     pub protocol: String,
-    /// Repetitions of the stream protocol (`000`: 100), each on its own recorded stream.
+    /// Repetitions of the stream protocol (Prágr19: 100), each on its own recorded stream.
     #[arg(long, default_value_t = 100)]
     pub reps: usize,
     /// Distinct recorded streams (simulator seeds `--seed` … `--seed + K − 1`); repetition r runs
-    /// on stream r mod K, so repetitions of one stream repeat its timings (`000`'s 100 trials)
+    /// on stream r mod K, so repetitions of one stream repeat its timings (Prágr19's 100 trials)
     /// and the K streams give the RMSE its spread.
     #[arg(long, default_value_t = 10)]
     pub streams: usize,
-    /// Pairs per stream (`000`: 292 from two passes).
+    /// Pairs per stream (Prágr19: 292 from two passes).
     #[arg(long, default_value_t = 300)]
     pub pairs: usize,
     /// Independent trials (pass 1 + aerial-view pass 2) pooled per C1 cell.
     #[arg(long, default_value_t = 3)]
     pub c1_runs: usize,
-    /// Pairs per C1 pass (0: the whole lane, the thesis protocol); fewer cut both passes short
+    /// Pairs per C1 pass (0: the whole lane, Prágr18's protocol); fewer cut both passes short
     /// (quick runs and tests).
     #[arg(long, default_value_t = 0)]
     pub c1_pairs: usize,

@@ -11,9 +11,10 @@
 //!   learning — one mission with its benchmark tours (`strider run`), the Table 5 bench;
 //! * [`pragr19`]: online incremental learning of the traversal cost — the `rbcm-greedy`
 //!   mission, the learner benchmark of its Fig. 5;
-//! * [`pragr18`]: the cost of transport predicted from an aerial view (thesis C1, Table I);
-//! * [`pragr23`]: traversable yet visually rigid obstacles (thesis C4) — the `escape` mission,
-//!   the vegetation bench;
+//! * [`pragr18`]: the cost of transport predicted from an aerial view (thesis contribution C1),
+//!   its Table I;
+//! * [`pragr23`]: traversable yet visually rigid obstacles (thesis contribution C4) — the
+//!   `escape` mission, the vegetation bench;
 //! * [`martin_corke`]: energy-optimal repeated tours;
 //! * [`nardi19`]: repeated navigation with a GP mixture and a lower confidence bound.
 //!

@@ -12,9 +12,9 @@ use strider_sim::Simulator;
 
 /// The cost estimator of a drive.
 pub(crate) enum Probe {
-    /// `000`: roll variance.
+    /// Prágr19: roll variance.
     Roll(RollVarianceCost),
-    /// Thesis C1: cost of transport.
+    /// Prágr18: cost of transport.
     Energy(EnergyCost),
 }
 

@@ -43,7 +43,7 @@ pub fn mission_params_of(c: &MissionConfig) -> Result<MissionParams> {
         .tour_mission(&robot, c.seed)
         .with_context(|| {
             format!(
-                "replay config: strategy {} has no 001 learner to replay with; use gtsp, greedy or spatial-only",
+                "replay config: strategy {} has no Prágr22 learner to replay with; use gtsp, greedy or spatial-only",
                 info.name
             )
         })

@@ -3,7 +3,7 @@
 //! map and models. Shared by `strider run` and `strider bench table5`.
 //!
 //! This is the glue between the scenario (world, robot profile, strategy table) and the
-//! mission: it converts the profile and the `001` Tbl. 3 values into [`MissionParams`]. The
+//! mission: it converts the profile and the Prágr22 Tbl. 3 values into [`MissionParams`]. The
 //! mission itself never sees the scenario's world.
 
 use anyhow::{Context, Result, bail};
@@ -62,8 +62,7 @@ pub fn robot_spec(sc: &Scenario) -> RobotSpec {
 }
 
 /// The scenario's `[strategy.<name>]` section, if it has one. Parameters directly under
-/// `[strategy]` (the format before strategies had sections) are an error that says where they
-/// go.
+/// `[strategy]` belong to no strategy: they are an error that says which section they go in.
 pub fn section<'a>(sc: &'a Scenario, name: &str) -> Result<Option<&'a toml::Table>> {
     if let Some((key, _)) = sc.strategy.iter().find(|(_, v)| !v.is_table()) {
         bail!(
@@ -127,13 +126,13 @@ pub fn checked_time_limit(t: f64) -> Result<f64> {
     Ok(t)
 }
 
-/// Mission parameters of a `001` strategy from a scenario: the robot profile, the map
+/// Mission parameters of a Prágr22 strategy from a scenario: the robot profile, the map
 /// parameters and the strategy's `[strategy.<name>]` section.
 pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<MissionParams> {
     let (_, configured) = configure(sc, strategy.name(), &[])?;
     configured
         .tour_mission(&robot_spec(sc), seed)
-        .context("not a 001 strategy")
+        .context("not a Prágr22 strategy")
 }
 
 /// Drives `mission` on the scenario's world (simulator seeded with `seed`), calling `observe`
@@ -186,7 +185,7 @@ pub fn run_strategy<S: FromParams>(
     Ok((mission, written))
 }
 
-/// [`run_strategy`] of a `001` mission, with its log.
+/// [`run_strategy`] of a Prágr22 mission, with its log.
 pub fn run_mission(
     sc: &Scenario,
     params: MissionParams,
@@ -263,7 +262,7 @@ pub fn run_tours(
     )
 }
 
-/// What benchmark tours navigate with: a map and the `001` per-gait models learned on it.
+/// What benchmark tours navigate with: a map and the Prágr22 per-gait models learned on it.
 #[derive(Clone, Copy)]
 pub struct Learned<'a> {
     /// The map.
@@ -274,7 +273,7 @@ pub struct Learned<'a> {
     pub params: &'a MissionParams,
 }
 
-/// [`run_tours`] with any map and `001` models.
+/// [`run_tours`] with any map and Prágr22 models.
 pub fn run_tours_with(
     sc: &Scenario,
     learned: Learned,

@@ -1,4 +1,4 @@
-//! Thesis C4 escape missions on `escape-arena` (world seed 1) in the simulator: the `rigid`
+//! Prágr23 escape missions on `escape-arena` (world seed 1) in the simulator: the `rigid`
 //! baseline stays in the office, the `escape` strategy samples a rigid obstacle, then the
 //! curtain it predicts traversable but uncertain, and leaves the office.
 //!
@@ -32,7 +32,7 @@ fn rigid_explores_the_office_only() {
     assert!(trial.mission.strategy().haptic().is_empty());
 }
 
-/// C4 §5.2 behaviour 1: the first sampled obstacle is rigid (no predictor yet); the curtain's
+/// Prágr23 §5.2 behaviour 1: the first sampled obstacle is rigid (no predictor yet); the curtain's
 /// colour is far from it in Lab, so the curtain is predicted traversable but uncertain, and it
 /// is the next obstacle the robot pushes, through to the corridor and on to section 3.
 #[test]
@@ -83,7 +83,7 @@ fn escape_samples_a_rigid_obstacle_then_the_uncertain_curtain_and_leaves() {
     );
 }
 
-/// C4 §5.2 behaviour 2 (Fig. 10): the curtain sampled first makes the predictor
+/// Prágr23 §5.2 behaviour 2 (Fig. 10): the curtain sampled first makes the predictor
 /// over-optimistic about the rigid apparent obstacles (white walls, far from purple in Lab, are
 /// predicted near the prior mean of 0 N: traversable, uncertain); pushing a wall then corrects
 /// it. The order is constructed: the exploration bounds are a strip across the doorway (the

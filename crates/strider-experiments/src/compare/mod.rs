@@ -2,12 +2,12 @@
 //!
 //! Per scenario × strategy × trial (world seed 1 + (i mod K), mission seed 1 + i) the strategy
 //! explores the scenario's world; then
-//! * the **learned cost's error**: per model of the strategy (per gait for the `001` explorers),
+//! * the **learned cost's error**: per model of the strategy (per gait for the Prágr22 explorers),
 //!   the RMSE of its planning cost against the terrain table in the model's own quantity
 //!   (inverse-velocity cost, roll variance, push force), over the cells the map observed that
 //!   are traversable in truth and that the model has a cost for;
-//! * the **benchmark tour** (the scenario's first) driven with learned navigation: the `001`
-//!   planner and gait selection on the per-gait models a passive `001` learner learned from the
+//! * the **benchmark tour** (the scenario's first) driven with learned navigation: the Prágr22
+//!   planner and gait selection on the per-gait models a passive Prágr22 learner learned from the
 //!   data this strategy collected ([`strider_explore::shadow`]), one yardstick for strategies
 //!   that learn different quantities.
 //!
@@ -304,7 +304,7 @@ fn run_trial(t: &Task, time_limit: Option<f64>) -> Result<CompareTrial> {
     let yardstick = registry::find("gtsp")?.configure(section(&sc, "gtsp")?, &[])?;
     let learner_params = yardstick
         .tour_mission(&robot, t.seed)
-        .context("gtsp has no 001 learner")?;
+        .context("gtsp has no Prágr22 learner")?;
     let learner = TourExplorer::new(learner_params)?;
     let mut mission = Mission::new(body, Shadowed::new(strategy, learner))?;
     drive(&sc, t.seed, &mut mission, None, |_, _| {})?;

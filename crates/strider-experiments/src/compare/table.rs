@@ -130,7 +130,7 @@ pub fn markdown(c: &Comparison, command: &str) -> String {
     let _ = writeln!(m, "# Strategies compared on the same worlds\n");
     let _ = writeln!(
         m,
-        "Produced by `{command}`: {} trials per scenario and strategy over {} world seeds. Medians with [min–max] over trials. Cost RMSE: each model's planning cost (a model without data plans with its prior) against the terrain table in its own quantity (inverse-velocity cost, dimensionless; roll variance, rad²; push force, N), over the cells that strategy's map observed and that are traversable in truth. Tour: the scenario's first benchmark tour with learned navigation on the `001` models a passive learner fitted to the data the strategy collected; times over the trials whose tour completed.\n",
+        "Produced by `{command}`: {} trials per scenario and strategy over {} world seeds. Medians with [min–max] over trials. Cost RMSE: each model's planning cost (a model without data plans with its prior) against the terrain table in its own quantity (inverse-velocity cost, dimensionless; roll variance, rad²; push force, N), over the cells that strategy's map observed and that are traversable in truth. Tour: the scenario's first benchmark tour with learned navigation on the Prágr22 models a passive learner fitted to the data the strategy collected; times over the trials whose tour completed.\n",
         c.trials_per_cell, c.world_seeds
     );
     let mut scenarios: Vec<&str> = c.cells.iter().map(|x| x.scenario.as_str()).collect();

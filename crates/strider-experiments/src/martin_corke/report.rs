@@ -294,10 +294,10 @@ fn markdown(sc: &Scenario, r: &SeedRun, s: &SeedFigures, command: &str) -> Strin
     let mut m = String::new();
     let _ = writeln!(
         m,
-        "# `003` repeated tours: {} (world seed {}, seed {})\n\nProduced by `{command}`.\n",
+        "# MartinCorke repeated tours: {} (world seed {}, seed {})\n\nProduced by `{command}`.\n",
         sc.name, sc.world_seed, r.seed
     );
-    let _ = writeln!(m, "| figure | ours | published (`003`) |");
+    let _ = writeln!(m, "| figure | ours | published (MartinCorke) |");
     let _ = writeln!(m, "|---|---|---|");
     let mut row = |figure: &str, ours: String, published: String| {
         let _ = writeln!(m, "| {figure} | {ours} | {published} |");
@@ -510,7 +510,7 @@ impl SummaryReport {
         let n = self.counts.of;
         let _ = writeln!(
             m,
-            "# `003` repeated tours over {n} seeds: {} (world seed {})\n\nProduced by `{command}`.\n",
+            "# MartinCorke repeated tours over {n} seeds: {} (world seed {})\n\nProduced by `{command}`.\n",
             self.scenario, self.world_seed
         );
         let _ = writeln!(

@@ -291,7 +291,7 @@ pub(crate) fn markdown(o: &NavigateOptions, groups: &[Group], wall_s: f64) -> St
     let mut md = String::new();
     let _ = write!(
         md,
-        "# `004` navigation on {} (sites = world seeds {:?}, seeds {}..={}, {} runs, λ = {})\n\n",
+        "# Nardi19 navigation on {} (sites = world seeds {:?}, seeds {}..={}, {} runs, λ = {})\n\n",
         o.scenario,
         o.sites,
         o.seed,
@@ -304,7 +304,7 @@ pub(crate) fn markdown(o: &NavigateOptions, groups: &[Group], wall_s: f64) -> St
         "Figures are mean ± sample std over seeds. RMSE = √(mean over admissible cells of \
          (μ − f)²) and Mahalanobis D = √(Σ over admissible cells of (μ − f)²/σ²) of the model \
          after the last run against the true field f (terrain vibration, m/s²). Published: \
-         `004` Table I (real data, their units), beside ours for the ordering.\n\n",
+         Nardi19 Table I (real data, their units), beside ours for the ordering.\n\n",
     );
     table_1(&mut md, &o.sites, groups);
     for (task, objective) in distinct(groups.iter().map(|g| (g.task, g.objective))) {
@@ -343,7 +343,7 @@ fn table_1(md: &mut String, sites: &[u64], groups: &[Group]) {
             );
         }
     }
-    md.push_str("\nPublished site k is compared with our k-th site; `004` also reports about 20 % fewer visited locations with the aerial image.\n\n");
+    md.push_str("\nPublished site k is compared with our k-th site; Nardi19 also reports about 20 % fewer visited locations with the aerial image.\n\n");
 }
 
 /// The experienced cost of every configuration against the least-cost path.

@@ -1,5 +1,5 @@
-//! Prágr18 (thesis C1): the cost of transport learned on one pass of a track and predicted from
-//! an aerial view, per learner × descriptor (Table I, §III-C, §IV).
+//! Prágr18 (thesis contribution C1): the cost of transport learned on one pass of a track and
+//! predicted from an aerial view, per learner × descriptor (Table I, §III-C, §IV).
 //!
 //! On `cot-track` the robot walks the lane once (pass 1) building its map with its own camera
 //! and measuring the cost of transport P/(m g v) over 3 s windows (a pair every 0.1 m; C1

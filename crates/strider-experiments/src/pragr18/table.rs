@@ -262,7 +262,7 @@ impl C1Report {
     ) -> Self {
         let (l, c, g, m, v) = PUBLISHED_BEST;
         let mut r = Self {
-            protocol: "thesis C1 Table I (learn on pass 1, predict pass 2 from the aerial view)",
+            protocol: "Prágr18 Table I (learn on pass 1, predict pass 2 from the aerial view)",
             scenario: sc.name.clone(),
             world_seed: sc.world_seed,
             seed: o.seed,
@@ -314,9 +314,9 @@ impl C1Report {
     /// produced it.
     pub fn markdown(&self, command: &str) -> String {
         let mut md = format!(
-            "# Thesis C1 Table I on `cot-track`: |CoT error| per learner × descriptor\n\n\
+            "# Prágr18 Table I on `cot-track`: |CoT error| per learner × descriptor\n\n\
 Produced by `{command}`. Learned on pass 1 (robot's view), predicted on pass 2 (aerial view); incremental learners (IGMN, \
-RBCM) also score their query-before-learning predictions on pass 1, as in the thesis.\n\n\
+RBCM) also score their query-before-learning predictions on pass 1, as in Prágr18.\n\n\
 | learner | colour | geometry | mean | variance | n | published mean / variance |\n|---|---|---|---:|---:|---:|---|\n",
         );
         let best = self.best_cell();
@@ -344,7 +344,7 @@ RBCM) also score their query-before-learning predictions on pass 1, as in the th
         }
         if let Some(b) = best {
             md.push_str(&format!(
-                "\nBest: **{}**, mean {:.2}, variance {:.1} (thesis: IGMN RGB-M + Shape, 5.7 / 38.4).\n",
+                "\nBest: **{}**, mean {:.2}, variance {:.1} (Prágr18: IGMN RGB-M + Shape, 5.7 / 38.4).\n",
                 b.label(),
                 b.mean.unwrap_or_default(),
                 b.variance.unwrap_or_default()

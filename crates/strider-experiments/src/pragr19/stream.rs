@@ -121,7 +121,7 @@ fn record_stream(sc: &Scenario, seed: u64, pairs: usize) -> Result<Stream> {
     let rbcm = strider_explore::registry::find("rbcm-greedy")?
         .configure(section(sc, "rbcm-greedy")?, &[])?;
     let strider_explore::registry::Configured::Rbcm(rbcm) = rbcm else {
-        bail!("rbcm-greedy is not configured as the 000 explorer");
+        bail!("rbcm-greedy is not configured as the Prágr19 explorer");
     };
     let delta = rbcm.delta_desc;
     let params = RollVarianceParams {

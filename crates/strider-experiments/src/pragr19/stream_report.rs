@@ -219,7 +219,7 @@ impl StreamReport {
             .map(|(spec, c)| (c.label.clone(), LearnerReport::new(spec, c)))
             .collect();
         let mut r = Self {
-            protocol: "000 §V-A incremental stream",
+            protocol: "Prágr19 §V-A incremental stream",
             scenario: sc.name.clone(),
             world_seed: sc.world_seed,
             seed: o.seed,

@@ -31,7 +31,7 @@ pub fn run_tour(
 ) -> Result<TourRun> {
     let wall = Instant::now();
     let Some(mut params) = configured.tour_mission(&robot_spec(sc), req.seed) else {
-        bail!("{} is not a 001 strategy", configured.name());
+        bail!("{} is not a Prágr22 strategy", configured.name());
     };
     start(req, &mut params.time_limit_s, progress)?;
     let (mission, log, written) = run_mission(sc, params, req.seed, req.mcap, |p| {

@@ -219,7 +219,7 @@ pub fn markdown(r: &Table5Report) -> String {
     let o = &r.options;
     let _ = writeln!(
         md,
-        "# `001` Table 5 reproduction\n\n{} small and {} large trials per row over {} world seeds \
+        "# Prágr22 Table 5 reproduction\n\n{} small and {} large trials per row over {} world seeds \
          (`strider bench table5 --trials {} --large-trials {} --world-seeds {}`), {:.0} s wall on \
          {} jobs. Times in simulated seconds, mean ± std. Our simulator is not the paper's: the \
          orderings and rough ratios are what should reproduce.\n",

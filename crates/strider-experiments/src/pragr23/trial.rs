@@ -1,4 +1,4 @@
-//! One trial of the thesis C4 escape experiment: a scenario's world in the simulator, the
+//! One trial of the Prágr23 escape experiment: a scenario's world in the simulator, the
 //! `escape` or `rigid` mission on it, and the evaluation of which arena sections were explored.
 //!
 //! The mission never sees the scenario's world; the evaluation does: a *section* is the set of
@@ -31,7 +31,7 @@ pub fn escape_params(
 ) -> Result<EscapeParams> {
     let (_, configured) = configure(sc, mode.name(), sets)?;
     let Configured::Escape(mode, table) = configured else {
-        bail!("{} is not a C4 strategy", mode.name());
+        bail!("{} is not a Prágr23 strategy", mode.name());
     };
     Ok(table.escape_params(&robot_spec(sc), mode)?)
 }

@@ -1,17 +1,17 @@
-//! Thesis C4 §5.3 (Table 5): the force predictor on outdoor terrains with the 8-bin histogram
+//! Prágr23 §5.3 (Table 5): the force predictor on outdoor terrains with the 8-bin histogram
 //! descriptor, presented one terrain at a time in three orders.
 //!
-//! C4 §5.3 is an offline evaluation of the predictor, not a mission: bumper measurements were
-//! collected on four terrains (sparse grass, dense grass with hay, a tree trunk, rocks), split
-//! into training and testing sets, and the predictor was presented with the training sets one
-//! terrain after the other; after each presentation the prediction entropy on every terrain's
-//! testing set is reported. So this bench builds no world for the simulator: it lays the four
-//! terrains out as patches of a coloured elevation map (per-cell colours drawn, seeded, from
-//! each terrain's colour mixture), measures each training cell with the simulated C4 bumper
-//! (push force through the Table 4 torque calibration with servo noise, a few spikes and
-//! dropped packets), fuses the readings with the haptic model (median filter and Kalman, C4
-//! Eq. 9) and learns the GP force predictor on the 8-bin histograms (l = 0.4, C4 Table 3). Test
-//! cells are the other half of each patch (a checkerboard split).
+//! Prágr23 §5.3 is an offline evaluation of the predictor, not a mission: bumper measurements were
+//! collected on four terrains (sparse grass, dense grass with hay, a tree trunk, rocks), split into
+//! training and testing sets, and the predictor was presented with the training sets one terrain
+//! after the other; after each presentation the prediction entropy on every terrain's testing set
+//! is reported. So this bench builds no world for the simulator: it lays the four terrains out as
+//! patches of a coloured elevation map (per-cell colours drawn, seeded, from each terrain's colour
+//! mixture), measures each training cell with the simulated bumper (push force through the Table 4
+//! torque calibration with servo noise, a few spikes and dropped packets), fuses the readings with
+//! the haptic model (median filter and Kalman, Eq. 9) and learns the GP force predictor on the
+//! 8-bin histograms (l = 0.4, Table 3). Test cells are the other half of each patch (a checkerboard
+//! split).
 
 use std::path::Path;
 
@@ -29,7 +29,7 @@ use strider_sim::BumperCalibration;
 use crate::io::{create_dir, write_json, write_text};
 use crate::stats::mean;
 
-/// One terrain of C4 §5.3.
+/// One terrain of Prágr23 §5.3.
 #[derive(Clone, Debug)]
 pub struct VegetationTerrain {
     /// Name.
@@ -40,7 +40,7 @@ pub struct VegetationTerrain {
     pub push_force_n: Option<f64>,
 }
 
-/// The four terrains of C4 Fig. 14 (forces: the curtains' range for sparse grass, near F_trav
+/// The four terrains of Prágr23 Fig. 14 (forces: the curtains' range for sparse grass, near F_trav
 /// for dense grass with hay; trunk and rocks rigid).
 pub fn terrains() -> Vec<VegetationTerrain> {
     let c = Rgb8::new;
@@ -288,7 +288,7 @@ pub fn bench(out: &Path) -> anyhow::Result<String> {
 mod tests {
     use super::*;
 
-    /// C4 §5.3: after each terrain is presented its test entropy is below the threshold, in
+    /// Prágr23 §5.3: after each terrain is presented its test entropy is below the threshold, in
     /// every order; a terrain not yet presented and unlike every presented one stays above.
     #[test]
     fn presented_terrains_become_known_in_every_order() {
