@@ -177,7 +177,7 @@ fn drive(sc: &Scenario, seed: u64, lane: f64, time_limit: Option<f64>) -> Result
 }
 
 /// The first range sensor and the lane spacing, checked.
-fn check<'a>(sc: &'a Scenario, lane_spacing: Option<f64>) -> Result<(&'a SensorSpec, f64)> {
+fn check(sc: &Scenario, lane_spacing: Option<f64>) -> Result<(&SensorSpec, f64)> {
     let Some(sensor) = sc.robot.sensors.first() else {
         bail!(
             "scenario {}: robot profile {} has no range sensor to build a map with",

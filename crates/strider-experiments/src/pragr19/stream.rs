@@ -20,8 +20,6 @@
 //! `learn_bench.png` (like Prágr19 Fig. 5; times on a log scale). The GP-family prior mean is 0
 //! (Prágr19's zero-mean experts; roll variances are small and positive).
 
-use std::path::PathBuf;
-
 use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use strider_core::Point2;
@@ -34,35 +32,11 @@ use strider_map::ElevationMap;
 use strider_map::descriptors::shape_lab_descriptor;
 use strider_scenario::Scenario;
 
+use super::StreamOptions;
 use super::stream_report::{Curve, StreamReport};
 use crate::io::{write_json, write_text};
 use crate::pairs::{Probe, drive, gait_index, new_sink, path_length};
 use crate::trial::section;
-
-/// Options of the stream protocol.
-#[derive(Clone, Debug)]
-pub struct StreamOptions {
-    /// Repetitions (Prágr19: 100), each on one of the recorded streams.
-    pub reps: usize,
-    /// Distinct recorded streams; repetition r runs on stream r mod K.
-    pub streams: usize,
-    /// Pairs per stream (Prágr19: 292 from two passes).
-    pub pairs: usize,
-    /// Simulator seed of the first stream (stream i uses seed + i).
-    pub seed: u64,
-    /// Output directory.
-    pub out: PathBuf,
-}
-
-impl StreamOptions {
-    /// Checks the options before anything runs.
-    pub fn check(&self) -> Result<()> {
-        if self.reps == 0 || self.streams == 0 || self.pairs < 2 {
-            bail!("--reps and --streams must be at least 1 and --pairs at least 2");
-        }
-        Ok(())
-    }
-}
 
 /// The learners of the stream protocol.
 fn learners() -> Vec<LearnerSpec> {

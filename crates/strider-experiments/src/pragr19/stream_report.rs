@@ -9,7 +9,7 @@ use serde::Serialize;
 use strider_learn::bench::{LearnerSpec, StreamTrace};
 use strider_scenario::Scenario;
 
-use super::stream::StreamOptions;
+use super::StreamOptions;
 use crate::io::ordered_map;
 use crate::render::{Canvas, compose, label, line_chart, palette};
 use crate::stats::{column_means, column_stds, max};

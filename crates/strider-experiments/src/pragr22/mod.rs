@@ -7,8 +7,10 @@ pub mod report;
 mod run;
 mod table5;
 mod table5_report;
+mod table5_trials;
 
 pub use figures::write_figures;
 pub use run::{TourRun, run_tour};
-pub use table5::{Table5, Table5Options, TrialResult, table5};
+pub use table5::{Table5, table5};
 pub use table5_report::{LargeReplanMs, MannWhitneyReport, Relation, Row, Table5Report, markdown};
+pub use table5_trials::{Table5Options, TrialResult};

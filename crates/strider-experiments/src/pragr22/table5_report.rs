@@ -6,7 +6,10 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use super::table5::{Table5Options, TrialResult, rows};
+use strider_explore::Strategy;
+use strider_explore::evaluate::NavigationMode;
+
+use super::table5_trials::{Table5Options, TrialResult};
 use crate::stats::{MeanStd, Summary, mann_whitney_u, max, median_max, paired_win_fraction};
 
 /// Published values (Prágr22 Table 5): row, mean, std.
@@ -290,4 +293,52 @@ fn relations_markdown(md: &mut String, relations: &[Relation]) {
             e(mw.map(|m| m.p_two_sided)),
         );
     }
+}
+
+/// The rows of the table from the trials (see [`Row`]).
+pub(crate) fn rows(trials: &[TrialResult]) -> Vec<Row> {
+    let select = |sc: &str, st: Strategy| -> Vec<&TrialResult> {
+        trials
+            .iter()
+            .filter(|t| t.trial.scenario == sc && t.trial.strategy == st.name())
+            .collect()
+    };
+    let small = select("courtyard-small", Strategy::Gtsp);
+    let greedy = select("courtyard-small", Strategy::Greedy);
+    let large = select("courtyard-large", Strategy::Gtsp);
+    let spatial = select("courtyard-large", Strategy::SpatialOnly);
+    let tour = |name: String, set: &[&TrialResult], k: usize, m: NavigationMode| {
+        let driven: Vec<(f64, bool)> = set.iter().filter_map(|t| t.tour(k, m)).collect();
+        Row::new(
+            name,
+            driven.iter().map(|x| x.0).collect(),
+            driven.iter().filter(|x| !x.1).count(),
+        )
+    };
+    let expl = |name: &str, set: &[&TrialResult]| {
+        Row::new(
+            name.to_string(),
+            set.iter().map(|t| t.trial.exploration_time_s).collect(),
+            0,
+        )
+    };
+    let mut rows = Vec::new();
+    for k in 0..2 {
+        for m in NavigationMode::ALL {
+            rows.push(tour(
+                format!("small tour {} {}", k + 1, m.name()),
+                &small,
+                k,
+                m,
+            ));
+        }
+    }
+    rows.push(expl("small exploration gtsp", &small));
+    rows.push(expl("small exploration greedy", &greedy));
+    let learned = NavigationMode::Learned;
+    rows.push(tour("large tour proposed".into(), &large, 0, learned));
+    rows.push(tour("large tour spatial-only".into(), &spatial, 0, learned));
+    rows.push(expl("large exploration proposed", &large));
+    rows.push(expl("large exploration spatial-only", &spatial));
+    rows
 }

@@ -11,7 +11,7 @@
 //! * **Median.** The middle value of the sorted sample; for an even count the mean of the two
 //!   middle values (NumPy's `np.median`).
 //! * **Standard deviation.** The *sample* standard deviation (divisor `n − 1`, like NumPy's
-//!   `ddof=1`), defined as `0` for a single observation. [`population_variance`] divides by `n`.
+//!   `ddof=1`), defined as `0` for a single observation. [`mean_population_variance`] divides by `n`.
 //! * **[`mann_whitney_u`].** Follows `scipy.stats.mannwhitneyu` (SciPy ≥ 1.7) exactly:
 //!   - ranks are computed on the pooled sample, ties get midranks (average ranks);
 //!   - `U_a = R_a − n_a(n_a + 1)/2` where `R_a` is the rank sum of the first sample, so `U_a`
