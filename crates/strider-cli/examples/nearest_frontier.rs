@@ -4,10 +4,10 @@
 //! `cargo run --release -p strider-cli --example nearest_frontier -- [TRIALS] [TIME_LIMIT_S]`.
 
 use anyhow::Result;
-use strider_cli::compare::{self, CompareOptions, Entrant};
 use strider_core::interface::MotionState;
 use strider_core::snapshot::{GoalKind, GoalSet, Snapshot};
 use strider_core::{Cell, Point2, Point3};
+use strider_experiments::compare::{self, CompareOptions, Entrant};
 use strider_explore::kernel::{
     Actuators, Body, BodyParams, Every, GoalCounts, Strategy, Termination, site,
 };

@@ -9,8 +9,10 @@ use anyhow::{Context, Result, bail};
 use serde_json::json;
 use strider_learn::gp::{Gp, GpParams, Kernel, KernelKind};
 
+use crate::args::PredictArgs;
+
 /// Options of `strider gp predict`.
-pub struct PredictOptions<'a> {
+struct PredictOptions<'a> {
     /// Training CSV: header, then rows of features followed by y.
     pub train: &'a Path,
     /// Query CSV: header, then rows of features.
@@ -32,7 +34,7 @@ pub struct PredictOptions<'a> {
 }
 
 /// Parses a kernel name.
-pub fn parse_kernel(s: &str) -> Result<KernelKind> {
+fn parse_kernel(s: &str) -> Result<KernelKind> {
     Ok(match s {
         "se" => KernelKind::SquaredExponential,
         "exp" => KernelKind::Exponential,
@@ -105,7 +107,21 @@ fn read_table(path: &Path) -> Result<Table> {
 }
 
 /// Runs `strider gp predict`.
-pub fn predict(o: &PredictOptions) -> Result<()> {
+pub fn predict(a: &PredictArgs) -> Result<()> {
+    predict_with(&PredictOptions {
+        train: &a.train,
+        query: &a.query,
+        kernel: &a.kernel,
+        lengthscale: a.lengthscale,
+        signal_variance: a.signal_variance,
+        noise_variance: a.noise_variance,
+        prior_mean: a.prior_mean,
+        out: &a.out,
+        timing_json: a.timing_json.as_deref(),
+    })
+}
+
+fn predict_with(o: &PredictOptions) -> Result<()> {
     let kind = parse_kernel(o.kernel)?;
     let train = read_table(o.train)?;
     let query = read_table(o.query)?;

@@ -7,10 +7,14 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use serde_json::json;
 use strider_plan::tsplib::read_instance_file;
-use strider_plan::{Instance, Mode, Solution, SolverParams, solve};
+use strider_plan::{Instance, Mode, Solution, SolverParams};
+
+use strider_experiments::stats;
+
+use crate::args::{GtspBenchArgs, SolveArgs};
 
 /// Parses a solver mode name.
-pub fn parse_mode(s: &str) -> Result<Mode> {
+fn parse_mode(s: &str) -> Result<Mode> {
     Ok(match s {
         "fast" => Mode::Fast,
         "default" => Mode::Default,
@@ -41,7 +45,8 @@ fn read_instance(path: &Path) -> Result<Instance> {
 
 /// Solves and checks the answer: one vertex per set, reported cost equal to a re-evaluation.
 fn solve_checked(inst: &Instance, p: &SolverParams, path: &Path) -> Result<Solution> {
-    let sol = solve(inst, p).with_context(|| format!("{}: cannot solve", path.display()))?;
+    let sol = strider_plan::solve(inst, p)
+        .with_context(|| format!("{}: cannot solve", path.display()))?;
     inst.check_tour(&sol.tour)
         .with_context(|| format!("{}: solver returned an infeasible tour", path.display()))?;
     let re = inst.tour_cost(&sol.tour);
@@ -56,13 +61,11 @@ fn solve_checked(inst: &Instance, p: &SolverParams, path: &Path) -> Result<Solut
 }
 
 /// Runs `strider gtsp solve`.
-pub fn solve_file(
-    file: &Path,
-    time_limit: f64,
-    seed: u64,
-    mode: Mode,
-    as_json: bool,
-) -> Result<()> {
+pub fn solve(a: &SolveArgs) -> Result<()> {
+    solve_file(&a.file, a.time_limit, a.seed, parse_mode(&a.mode)?, a.json)
+}
+
+fn solve_file(file: &Path, time_limit: f64, seed: u64, mode: Mode, as_json: bool) -> Result<()> {
     let inst = read_instance(file)?;
     let sol = solve_checked(&inst, &params(time_limit, seed, mode)?, file)?;
     // Vertex ids as in the file (1-based).
@@ -151,7 +154,7 @@ fn references(dir: &Path) -> Result<Vec<Reference>> {
 }
 
 /// Options of `strider gtsp bench`.
-pub struct BenchOptions {
+struct BenchOptions {
     /// Time limit per run, seconds.
     pub time_limit: f64,
     /// Runs per instance (seeds seed, seed+1, …).
@@ -167,7 +170,19 @@ pub struct BenchOptions {
 }
 
 /// Runs `strider gtsp bench`.
-pub fn bench(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()> {
+pub fn bench(a: &GtspBenchArgs) -> Result<()> {
+    let o = BenchOptions {
+        time_limit: a.time_limit,
+        runs: a.runs,
+        seed: a.seed,
+        mode: parse_mode(&a.mode)?,
+        min_sets: a.min_sets,
+        max_sets: a.max_sets,
+    };
+    bench_dir(&a.dir, &o, a.json.as_deref())
+}
+
+fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()> {
     if o.runs == 0 {
         bail!("--runs must be at least 1");
     }
@@ -183,25 +198,23 @@ pub fn bench(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
     {
         let path = dir.join(&r.file);
         let inst = read_instance(&path)?;
-        let (mut best, mut sum_gap, mut max_gap, mut time) =
-            (i64::MAX, 0.0, f64::NEG_INFINITY, 0.0);
-        let mut costs = Vec::new();
+        let (mut best, mut time) = (i64::MAX, 0.0);
+        let (mut costs, mut run_gaps) = (Vec::new(), Vec::new());
         for k in 0..o.runs {
             let sol = solve_checked(
                 &inst,
                 &params(o.time_limit, o.seed + k as u64, o.mode)?,
                 &path,
             )?;
-            let gap = 100.0 * (sol.cost - r.best_known) as f64 / r.best_known as f64;
-            gaps.push(gap);
+            run_gaps.push(100.0 * (sol.cost - r.best_known) as f64 / r.best_known as f64);
             best = best.min(sol.cost);
-            sum_gap += gap;
-            max_gap = max_gap.max(gap);
             time += sol.time_s;
             costs.push(sol.cost);
         }
+        let mean_gap = stats::mean(&run_gaps).unwrap_or(f64::NAN);
+        let max_gap = stats::max(&run_gaps).unwrap_or(f64::NEG_INFINITY);
+        gaps.extend(run_gaps);
         total_s += time;
-        let mean_gap = sum_gap / o.runs as f64;
         println!(
             "{:<12} {:>5} {:>5} {:>10} {:>10} {:>9.4} {:>9.4} {:>8.3}",
             r.name,
@@ -220,8 +233,8 @@ pub fn bench(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
         }));
     }
     let n = rows.len();
-    let mean = gaps.iter().sum::<f64>() / gaps.len().max(1) as f64;
-    let max = gaps.iter().copied().fold(0.0, f64::max);
+    let mean = stats::mean(&gaps).unwrap_or(0.0);
+    let max = stats::max(&gaps).unwrap_or(0.0).max(0.0);
     println!("instances={n} mean_gap_pct={mean:.4} max_gap_pct={max:.4} total_s={total_s:.2}");
     if let Some(out) = json_out {
         let doc = json!({

@@ -1,14 +1,12 @@
-//! `strider scenario …`: list, render and export scenarios.
+//! `strider scenario …` (list, render, export) and `strider map build`.
 
-use std::fs;
-use std::path::Path;
+use anyhow::Result;
+use strider_experiments::map_build::{MapBuildOptions, build};
+use strider_experiments::scenario_figures::render as render_scenario;
+use strider_experiments::trial::load;
+use strider_scenario::builtin;
 
-use anyhow::{Context, Result};
-use serde_json::json;
-use strider_map::Passability;
-use strider_scenario::{Scenario, builtin};
-
-use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
+use crate::args::{ExportArgs, MapBuildArgs, RenderArgs};
 
 /// Prints the built-in scenarios.
 pub fn list() -> Result<()> {
@@ -18,92 +16,40 @@ pub fn list() -> Result<()> {
     Ok(())
 }
 
-/// Loads a built-in by name or a scenario file by path.
-pub fn load(arg: &str, world_seed: u64) -> Result<Scenario> {
-    Ok(Scenario::from_name_or_file(arg, world_seed)?)
-}
-
-/// Colours of tours in overlays.
-const TOUR_COLORS: [[u8; 3]; 4] = [[0, 160, 255], [255, 120, 0], [255, 0, 200], [0, 220, 120]];
-
 /// Writes color, elevation, terrain, ground-truth passability and tour PNGs plus `render.json`.
-pub fn render(arg: &str, world_seed: u64, out: &Path) -> Result<()> {
-    let sc = load(arg, world_seed)?;
-    fs::create_dir_all(out)
-        .with_context(|| format!("{}: cannot create directory", out.display()))?;
-    let w = &sc.world;
-    let (rect, res) = (w.rect, w.resolution);
-    let scale = Canvas::auto_scale(rect, 900);
-
-    let colors: Vec<_> = w.color.iter().map(|&c| Some(c)).collect();
-    rgb_canvas(rect, res, scale, &colors).save(&out.join("color.png"))?;
-    let (elev, elev_range) = scalar_canvas(rect, res, scale, &w.elevation, None);
-    elev.save(&out.join("elevation.png"))?;
-
-    let mut terrain = Canvas::new(rect, res, scale);
-    terrain.fill(|k| Some(palette(w.terrain[k] as usize)));
-    terrain.save(&out.join("terrain.png"))?;
-
-    let pass = w.gt_passability(sc.map.rho_obstacle);
-    let adm = w.gt_admissible(sc.map.rho_obstacle, sc.map.r_robot);
-    let mut pc = Canvas::new(rect, res, scale);
-    pc.fill(|k| {
-        Some(match (pass[k], adm[k]) {
-            (Passability::Impassable, _) => [20, 20, 20],
-            (_, true) => [230, 230, 230],
-            (Passability::Passable, false) => [150, 150, 150],
-            _ => [90, 60, 60],
-        })
-    });
-    pc.save(&out.join("passability.png"))?;
-
-    let mut tours = rgb_canvas(rect, res, scale, &colors);
-    for (t, tour) in sc.tours.iter().enumerate() {
-        let c = TOUR_COLORS[t % TOUR_COLORS.len()];
-        let mut pts = tour.waypoints.clone();
-        if tour.closed && !pts.is_empty() {
-            pts.push(pts[0]);
-        }
-        tours.polyline(&pts, c, (scale as i64 / 3).max(1));
-        for p in &tour.waypoints {
-            tours.marker(*p, c, (scale as i64).max(3));
-        }
-    }
-    tours.marker(sc.start.position(), [255, 255, 255], (scale as i64).max(4));
-    tours.save(&out.join("tours.png"))?;
-
-    let legend = json!({
-        "scenario": sc.name,
-        "world_seed": sc.world_seed,
-        "resolution_m": res,
-        "size_cells": [rect.width, rect.height],
-        "elevation_range_m": [elev_range.0, elev_range.1],
-        "terrains": w.terrains.iter().map(|t| json!({
-            "index": t.index, "name": t.name, "palette_rgb": palette(t.index as usize)
-        })).collect::<Vec<_>>(),
-        "passability_png": "black: impassable (step > rho_obstacle); light: admissible for the robot centre; mid gray: passable but within r_robot of an obstacle",
-        "tours": sc.tours.iter().map(|t| json!({"name": t.name, "waypoints": t.waypoints.len()})).collect::<Vec<_>>(),
-    });
-    let path = out.join("render.json");
-    fs::write(&path, serde_json::to_string_pretty(&legend)?)
-        .with_context(|| format!("{}: cannot write", path.display()))?;
+pub fn render(a: &RenderArgs) -> Result<()> {
+    let sc = render_scenario(&a.name, a.world_seed, &a.out)?;
     println!(
         "rendered {} (world seed {}) to {}: color.png elevation.png terrain.png passability.png tours.png render.json",
         sc.name,
         sc.world_seed,
-        out.display()
+        a.out.display()
     );
     Ok(())
 }
 
 /// Writes the scenario as TOML + PNG layers.
-pub fn export(arg: &str, world_seed: u64, out: &Path) -> Result<()> {
-    let sc = load(arg, world_seed)?;
-    sc.save(out)?;
+pub fn export(a: &ExportArgs) -> Result<()> {
+    let sc = load(&a.name, a.world_seed)?;
+    sc.save(&a.out)?;
     println!(
         "wrote {} to {}",
         sc.name,
-        out.join("scenario.toml").display()
+        a.out.join("scenario.toml").display()
     );
+    Ok(())
+}
+
+/// `strider map build`: a coverage drive, the map and its score against ground truth.
+pub fn map_build(a: &MapBuildArgs) -> Result<()> {
+    let done = build(&MapBuildOptions {
+        scenario: a.scenario.scenario.clone(),
+        world_seed: a.scenario.world_seed,
+        seed: a.seed,
+        lane_spacing: a.lane_spacing,
+        time_limit: a.time_limit,
+        out: a.out.clone(),
+    })?;
+    println!("{done}");
     Ok(())
 }

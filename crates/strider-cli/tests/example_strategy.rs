@@ -4,7 +4,7 @@
 #[path = "../examples/nearest_frontier.rs"]
 mod nearest_frontier;
 
-use strider_cli::compare::{self, CompareOptions, Entrant};
+use strider_experiments::compare::{self, CompareOptions, Entrant};
 
 #[test]
 fn the_example_strategy_explores_and_is_compared() {
@@ -24,9 +24,9 @@ fn the_example_strategy_explores_and_is_compared() {
     for t in result
         .trials
         .iter()
-        .filter(|t| t.strategy == "nearest-frontier")
+        .filter(|t| t.trial.strategy == "nearest-frontier")
     {
-        assert!(t.observed_cells > 1000, "{t:?}");
+        assert!(t.trial.observed_cells > 1000, "{t:?}");
         assert!(t.tour_time_s.is_some(), "{t:?}");
     }
     let md = compare::markdown(&result, "test");

@@ -1,4 +1,4 @@
-//! End-to-end tests of `strider navigate` (`004`): a short run writes the tables and figures
+//! End-to-end tests of `strider navigate` (Nardi19): a short run writes the tables and figures
 //! with every configuration, and bad input ends in one clear line.
 
 mod common;

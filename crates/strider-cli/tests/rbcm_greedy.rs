@@ -1,4 +1,4 @@
-//! End-to-end tests of `strider run --strategy rbcm-greedy` (the `000` explorer): a whole
+//! End-to-end tests of `strider run --strategy rbcm-greedy` (the Prágr19 explorer): a whole
 //! exploration of `lab-track` that must end by Eq. 16 with the terrains learned in the right
 //! order, determinism, the planning figures in the report, and the one-line errors.
 
@@ -136,7 +136,7 @@ fn bad_requests_fail_with_one_line() {
         "{}",
         common::stderr(&o)
     );
-    // --gait is rbcm-greedy's parameter; the 001 strategies choose gaits themselves.
+    // --gait is rbcm-greedy's parameter; the Prágr22 strategies choose gaits themselves.
     let e = one_line_error(&strider(&[
         "run",
         "--scenario",

@@ -5,8 +5,8 @@
 mod common;
 
 use std::path::Path;
-use strider_cli::trial::{mission_params, run_mission, run_mission_recorded};
 use strider_core::msg::ColoredPoint;
+use strider_experiments::trial::{configure, drive, mission_params, robot_spec, run_mission};
 use strider_explore::FromParams;
 use strider_explore::{Strategy, TourExplorer};
 use strider_log::ros2::{self, Header, MsgType, Odometry, Quaternion, Time, UInt8Msg};
@@ -27,12 +27,13 @@ fn replay_of_a_recorded_mission_gives_the_live_map_and_costs() {
     let dir = common::temp_dir("replay", "round-trip");
     let file = dir.join("run.mcap");
     let (live, live_log, written) =
-        run_mission_recorded(&sc, params.clone(), 1, |_| {}, &file).unwrap();
+        run_mission(&sc, params.clone(), 1, Some(&file), |_| {}).unwrap();
+    let written = written.expect("the recording wrote messages");
     assert!(written.messages["/robot/sensor_0/points"] > 10);
     assert!(written.messages["/strider/map"] > 5);
 
     // Recording does not change the mission.
-    let (plain, plain_log) = run_mission(&sc, params.clone(), 1, |_| {}).unwrap();
+    let (plain, plain_log, _) = run_mission(&sc, params.clone(), 1, None, |_| {}).unwrap();
     assert_eq!(plain.record().trajectory, live.record().trajectory);
     assert_eq!(plain_log.cost_samples, live_log.cost_samples);
 
@@ -129,13 +130,13 @@ fn every_strategy_records_and_its_replay_gives_its_map() {
     let dir = common::temp_dir("replay", "every-strategy");
     for scenario in ["courtyard-small", "lab-track"] {
         let sc = Scenario::from_name_or_file(scenario, 1).unwrap();
-        let mut robot = strider_cli::trial::robot_spec(&sc);
+        let mut robot = robot_spec(&sc);
         robot.time_limit_s = 60.0;
         for name in ["gtsp", "greedy", "spatial-only", "rbcm-greedy"] {
-            let (_, configured) = strider_cli::trial::configure(&sc, name, &[]).unwrap();
+            let (_, configured) = configure(&sc, name, &[]).unwrap();
             let mut live = configured.build(&robot, 2).unwrap();
             let file = dir.join(format!("{scenario}-{name}.mcap"));
-            let written = strider_cli::trial::drive(&sc, 2, &mut live, Some(&file), |_, _| {})
+            let written = drive(&sc, 2, &mut live, Some(&file), |_, _| {})
                 .unwrap()
                 .unwrap();
             assert!(written.messages["/strider/map"] > 0, "{name} on {scenario}");

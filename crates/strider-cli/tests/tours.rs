@@ -1,5 +1,5 @@
-//! End-to-end tests of `strider tours` (`003` repeated tours): its tables and figures, and its
-//! one-line errors on bad tours.
+//! End-to-end tests of `strider tours` (MartinCorke repeated tours): its tables and figures,
+//! and its one-line errors on bad tours.
 
 use std::path::Path;
 

@@ -16,7 +16,6 @@
 //! * [`evaluate`]: benchmark tours after exploration under the flat, gait-selection and learned
 //!   navigation modes (Prágr22 §5, Tbl. 5), timed per segment.
 //! * [`registry`]: every strategy by name with its paper, typed parameters and needs.
-//! * [`stats`]: summaries and Mann–Whitney U tests for comparing strategies over trials.
 //! * [`energy_tours`]: MartinCorke energy-optimal repeated tours — a zero-mean GP of motive energy
 //!   per metre learnt from the power stream, waypoints ordered by the exact TSP, re-planned
 //!   after every tour until the tour stops changing.
@@ -40,7 +39,6 @@ pub mod planner;
 pub mod rbcm_greedy;
 pub mod registry;
 pub mod shadow;
-pub mod stats;
 mod timing;
 pub mod tour_explorer;
 

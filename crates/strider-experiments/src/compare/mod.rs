@@ -1,0 +1,359 @@
+//! `strider bench compare`: strategies from different papers on the same worlds.
+//!
+//! Per scenario × strategy × trial (world seed 1 + (i mod K), mission seed 1 + i) the strategy
+//! explores the scenario's world; then
+//! * the **learned cost's error**: per model of the strategy (per gait for the Prágr22 explorers),
+//!   the RMSE of its planning cost against the terrain table in the model's own quantity
+//!   (inverse-velocity cost, roll variance, push force), over the cells the map observed that
+//!   are traversable in truth and that the model has a cost for;
+//! * the **benchmark tour** (the scenario's first) driven with learned navigation: the Prágr22
+//!   planner and gait selection on the per-gait models a passive Prágr22 learner learned from the
+//!   data this strategy collected ([`strider_explore::shadow`]), one yardstick for strategies
+//!   that learn different quantities.
+//!
+//! The simulator's world is the judge here, never seen by the strategies. Strategies come from
+//! the registry or from outside it ([`Entrant::custom`]).
+
+mod table;
+mod truth;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+use rayon::prelude::*;
+use serde::Serialize;
+use strider_core::snapshot::Quantity;
+use strider_explore::TourExplorer;
+use strider_explore::evaluate::NavigationMode;
+use strider_explore::kernel::{BodyParams, Mission, Strategy};
+use strider_explore::registry::{self, RobotSpec, StrategyInfo};
+use strider_explore::shadow::Shadowed;
+use strider_scenario::Scenario;
+
+use crate::io::{create_dir, write_json, write_text};
+use crate::parallel::pool;
+use crate::stats::Summary;
+use crate::trial::{
+    Learned, TrialRecord, checked_time_limit, configure, drive, robot_spec, run_tours_with, section,
+};
+pub use table::markdown;
+use table::{pair_tests, summarise};
+pub use truth::cost_errors;
+
+/// Builds a strategy for a scenario's robot and a mission seed: the body it needs and the
+/// strategy itself, or why it cannot run on that robot.
+pub type Builder =
+    dyn Fn(&Scenario, &RobotSpec, u64) -> Result<(BodyParams, Box<dyn Strategy + Send>)> + Sync;
+
+/// A strategy taking part in a comparison.
+pub struct Entrant {
+    /// Its name in the tables.
+    pub name: String,
+    build: Box<Builder>,
+}
+
+impl Entrant {
+    /// A strategy of the registry, configured from each scenario's `[strategy.<name>]`.
+    pub fn registered(name: &str) -> Result<Self> {
+        let info: &'static StrategyInfo = registry::find(name)?;
+        Ok(Self {
+            name: info.name.to_string(),
+            build: Box::new(move |sc, robot, seed| {
+                let (_, configured) = configure(sc, info.name, &[])?;
+                Ok(configured.parts(robot, seed)?)
+            }),
+        })
+    }
+
+    /// A strategy from outside the registry.
+    pub fn custom(
+        name: &str,
+        build: impl Fn(&Scenario, &RobotSpec, u64) -> Result<(BodyParams, Box<dyn Strategy + Send>)>
+        + Sync
+        + 'static,
+    ) -> Self {
+        Self {
+            name: name.to_string(),
+            build: Box::new(build),
+        }
+    }
+}
+
+/// What to compare.
+#[derive(Clone, Debug)]
+pub struct CompareOptions {
+    /// Scenarios (built-in names or files).
+    pub scenarios: Vec<String>,
+    /// Trials per scenario and strategy.
+    pub trials: usize,
+    /// World seeds cycled through.
+    pub world_seeds: u64,
+    /// Trials run side by side.
+    pub jobs: usize,
+    /// Mission time limit override, simulated seconds.
+    pub time_limit: Option<f64>,
+}
+
+/// One model's learned-cost error.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ModelError {
+    /// The model (the gait's name for per-gait models).
+    pub model: String,
+    /// What it learns.
+    pub quantity: Quantity,
+    /// RMSE against the terrain table, in the quantity's unit (NaN without cells).
+    pub rmse: f64,
+    /// Cells compared.
+    pub cells: usize,
+}
+
+/// One trial.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CompareTrial {
+    /// Where it ran and how the exploration ended.
+    #[serde(flatten)]
+    pub trial: TrialRecord,
+    /// Learned-cost error per model.
+    pub cost_error: Vec<ModelError>,
+    /// The benchmark tour's name.
+    pub tour: Option<String>,
+    /// Its time with learned navigation, simulated s.
+    pub tour_time_s: Option<f64>,
+    /// Every segment of the tour reached its waypoint.
+    pub tour_completed: Option<bool>,
+    /// Wall time of the trial, s.
+    pub wall_s: f64,
+}
+
+/// A scenario × strategy cell of the table.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CompareCell {
+    /// Scenario.
+    pub scenario: String,
+    /// Strategy.
+    pub strategy: String,
+    /// Why the strategy cannot run on this scenario's robot (no trials then).
+    pub skipped: Option<String>,
+    /// Exploration time, s.
+    pub exploration_time_s: Option<Summary>,
+    /// Observed cells.
+    pub observed_cells: Option<Summary>,
+    /// Learned-cost RMSE per model.
+    pub cost_rmse: BTreeMap<String, Summary>,
+    /// Benchmark-tour time over the trials whose tour completed, s (an incomplete tour's
+    /// time leaves out the segments it could not plan, so it is not a time to compare).
+    pub tour_time_s: Option<Summary>,
+    /// Trials whose tour completed.
+    pub tours_completed: usize,
+}
+
+/// Mann–Whitney U between two strategies on one scenario.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PairTest {
+    /// Scenario.
+    pub scenario: String,
+    /// First strategy.
+    pub a: String,
+    /// Second strategy.
+    pub b: String,
+    /// What was compared (`exploration_time_s`, `tour_time_s`).
+    pub measure: String,
+    /// Two-sided p.
+    pub p_two_sided: f64,
+    /// p of "a is less than b".
+    pub p_a_less: f64,
+}
+
+/// The comparison.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Comparison {
+    /// Trials per cell.
+    pub trials_per_cell: usize,
+    /// World seeds cycled through.
+    pub world_seeds: u64,
+    /// The cells, scenario-major.
+    pub cells: Vec<CompareCell>,
+    /// Pairwise tests.
+    pub tests: Vec<PairTest>,
+    /// Every trial.
+    pub trials: Vec<CompareTrial>,
+}
+
+struct Task<'a> {
+    scenario: &'a str,
+    entrant: &'a Entrant,
+    world_seed: u64,
+    seed: u64,
+}
+
+/// Runs the comparison (trials side by side on `jobs` threads); `on_trial` is called after
+/// every trial.
+pub fn run(
+    o: &CompareOptions,
+    entrants: &[Entrant],
+    on_trial: impl Fn() + Sync,
+) -> Result<Comparison> {
+    check(o, entrants)?;
+    let (tasks, skipped) = tasks(o, entrants)?;
+    let trials: Vec<CompareTrial> = pool(o.jobs)?.install(|| {
+        tasks
+            .par_iter()
+            .with_max_len(1)
+            .map(|t| {
+                let r = run_trial(t, o.time_limit).with_context(|| {
+                    format!(
+                        "{} on {} world seed {} seed {}",
+                        t.entrant.name, t.scenario, t.world_seed, t.seed
+                    )
+                });
+                on_trial();
+                r
+            })
+            .collect::<Result<Vec<_>>>()
+    })?;
+    let mut cells = Vec::new();
+    for name in &o.scenarios {
+        for e in entrants {
+            let key = (name.clone(), e.name.clone());
+            let mine: Vec<&CompareTrial> = trials
+                .iter()
+                .filter(|t| t.trial.scenario == *name && t.trial.strategy == e.name)
+                .collect();
+            cells.push(summarise(name, &e.name, skipped.get(&key).cloned(), &mine));
+        }
+    }
+    Ok(Comparison {
+        trials_per_cell: o.trials,
+        world_seeds: o.world_seeds,
+        tests: pair_tests(&o.scenarios, entrants, &trials),
+        cells,
+        trials,
+    })
+}
+
+fn check(o: &CompareOptions, entrants: &[Entrant]) -> Result<()> {
+    if let Some(t) = o.time_limit {
+        checked_time_limit(t)?;
+    }
+    if o.trials == 0 || o.world_seeds == 0 || o.jobs == 0 {
+        bail!("--trials, --world-seeds and --jobs must be at least 1");
+    }
+    if o.jobs > 256 || o.trials > 100_000 {
+        bail!("--jobs must be at most 256 and --trials at most 100000");
+    }
+    if entrants.is_empty() || o.scenarios.is_empty() {
+        bail!("give at least one scenario and one strategy");
+    }
+    let mut seen = BTreeSet::new();
+    if let Some(n) = o.scenarios.iter().find(|n| !seen.insert(n.as_str())) {
+        bail!("scenario {n} is listed twice");
+    }
+    let mut seen = BTreeSet::new();
+    if let Some(e) = entrants.iter().find(|e| !seen.insert(e.name.as_str())) {
+        bail!("strategy {} is listed twice", e.name);
+    }
+    Ok(())
+}
+
+/// Why an entrant cannot run on a scenario, by (scenario, strategy).
+type Skipped = BTreeMap<(String, String), String>;
+
+/// Every trial of the entrants that fit each scenario's robot, and why the others do not.
+fn tasks<'a>(o: &'a CompareOptions, entrants: &'a [Entrant]) -> Result<(Vec<Task<'a>>, Skipped)> {
+    let mut skipped = Skipped::new();
+    let mut tasks = Vec::new();
+    for name in &o.scenarios {
+        let sc =
+            Scenario::from_name_or_file(name, 1).with_context(|| format!("scenario {name}"))?;
+        for e in entrants {
+            if let Err(why) = fits(&sc, e) {
+                skipped.insert((name.clone(), e.name.clone()), why);
+                continue;
+            }
+            for i in 0..o.trials {
+                tasks.push(Task {
+                    scenario: name,
+                    entrant: e,
+                    world_seed: 1 + (i as u64 % o.world_seeds),
+                    seed: 1 + i as u64,
+                });
+            }
+        }
+    }
+    Ok((tasks, skipped))
+}
+
+/// `Ok` when the entrant can run on the scenario's robot, else why not.
+fn fits(sc: &Scenario, e: &Entrant) -> std::result::Result<(), String> {
+    let robot = robot_spec(sc);
+    match (e.build)(sc, &robot, 1) {
+        Ok(_) => Ok(()),
+        Err(err) => Err(format!("{err:#}")),
+    }
+}
+
+fn run_trial(t: &Task, time_limit: Option<f64>) -> Result<CompareTrial> {
+    let wall = std::time::Instant::now();
+    let sc = Scenario::from_name_or_file(t.scenario, t.world_seed)?;
+    let mut robot = robot_spec(&sc);
+    if let Some(limit) = time_limit {
+        robot.time_limit_s = limit;
+    }
+    let (body, strategy) = (t.entrant.build)(&sc, &robot, t.seed)?;
+    let yardstick = registry::find("gtsp")?.configure(section(&sc, "gtsp")?, &[])?;
+    let learner_params = yardstick
+        .tour_mission(&robot, t.seed)
+        .context("gtsp has no Prágr22 learner")?;
+    let learner = TourExplorer::new(learner_params)?;
+    let mut mission = Mission::new(body, Shadowed::new(strategy, learner))?;
+    drive(&sc, t.seed, &mut mission, None, |_, _| {})?;
+    let snap = mission.snapshot(true);
+    let learner = mission.strategy().learner();
+    let tours = run_tours_with(
+        &sc,
+        Learned {
+            map: mission.body().map(),
+            models: learner.models(),
+            params: learner.params(),
+        },
+        t.seed,
+        &[NavigationMode::Learned],
+        |_, _| {},
+    )?;
+    let tour = tours.first();
+    let result = tour.and_then(|(_, r)| r.first());
+    Ok(CompareTrial {
+        trial: TrialRecord::of(
+            t.scenario,
+            &t.entrant.name,
+            (t.world_seed, t.seed),
+            &mission,
+        ),
+        cost_error: cost_errors(&sc, &snap),
+        tour: tour.map(|(n, _)| n.clone()),
+        tour_time_s: result.map(|r| r.total_s),
+        tour_completed: result.map(|r| r.completed),
+        wall_s: wall.elapsed().as_secs_f64(),
+    })
+}
+
+/// Writes `compare.json` (everything) and `compare.md` (the tables) into `out`.
+pub fn write(out: &Path, c: &Comparison, command: &str) -> Result<()> {
+    create_dir(out)?;
+    write_json(&out.join("compare.json"), c)?;
+    write_text(&out.join("compare.md"), &markdown(c, command))
+}
+
+/// The command that reproduces a comparison of the registry's strategies `names`.
+pub fn command_line(o: &CompareOptions, names: &[String]) -> String {
+    format!(
+        "strider bench compare --scenarios {} --strategies {} --trials {} --world-seeds {}{}",
+        o.scenarios.join(","),
+        names.join(","),
+        o.trials,
+        o.world_seeds,
+        o.time_limit
+            .map_or_else(String::new, |t| format!(" --time-limit {t}"))
+    )
+}

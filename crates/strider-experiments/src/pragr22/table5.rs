@@ -1,0 +1,68 @@
+//! `strider bench table5`: the mission-level reproduction of Prágr22 Table 5.
+//!
+//! Every block of the table is rebuilt from independent trials in the simulator:
+//!
+//! * small tours 1 and 2 with the three navigation modes, after a `gtsp` exploration of
+//!   `courtyard-small` (one exploration per trial, the three modes on its map and models);
+//! * small exploration time, `gtsp` against `greedy`;
+//! * the large tour in the `learned` mode after a `gtsp` exploration ("proposed") against the
+//!   same after a `spatial-only` exploration, and the two exploration times, on
+//!   `courtyard-large`.
+//!
+//! Trial i (0-based) of a row runs on world seed 1 + (i mod K) with mission seed 1 + i, so the
+//! trials of a row cover K random worlds and the rows that are compared (gtsp/greedy, and the
+//! modes of one exploration) are paired by trial. Trials run in parallel on a pool of `--jobs`
+//! threads; each trial is deterministic, so the table does not depend on the job count.
+//! Statistics: mean ± std, paired win fractions and two-sided and one-sided Mann–Whitney U
+//! ([`crate::stats`]).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Result, bail};
+
+use super::table5_report::{Table5Report, markdown};
+use super::table5_trials::{Table5Options, run_trials, tasks};
+use crate::io::{create_dir, write_json, write_text};
+use crate::progress::Progress;
+use crate::trial::checked_time_limit;
+
+/// The table written: `table5.json`, `table5.md` (also returned, for the terminal).
+pub struct Table5 {
+    /// The markdown table.
+    pub markdown: String,
+    /// `table5.json`.
+    pub json: PathBuf,
+    /// `table5.md`.
+    pub md: PathBuf,
+}
+
+/// Runs `strider bench table5` into `out`.
+pub fn table5(o: &Table5Options, out: &Path, progress: &dyn Progress) -> Result<Table5> {
+    check(o)?;
+    create_dir(out)?;
+    if let Some(dir) = &o.mcap_dir {
+        create_dir(dir)?;
+    }
+    let wall = Instant::now();
+    let tasks = tasks(o);
+    progress.start(tasks.len() as u64);
+    let trials = run_trials(o, &tasks, progress)?;
+    let report = Table5Report::new(o, trials, wall);
+    let json = out.join("table5.json");
+    write_json(&json, &report)?;
+    let markdown = markdown(&report);
+    let md = out.join("table5.md");
+    write_text(&md, &markdown)?;
+    Ok(Table5 { markdown, json, md })
+}
+
+fn check(o: &Table5Options) -> Result<()> {
+    if o.trials == 0 || o.world_seeds == 0 || o.jobs == 0 {
+        bail!("--trials, --world-seeds and --jobs must be at least 1");
+    }
+    if let Some(t) = o.time_limit {
+        checked_time_limit(t)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,312 @@
+//! One trial of a mission experiment: a scenario's world in the simulator behind the robot
+//! interface, an exploration mission on it, then the scenario's benchmark tours on the frozen
+//! map and models. Shared by `strider run` and `strider bench table5`.
+//!
+//! This is the glue between the scenario (world, robot profile, strategy table) and the
+//! mission: it converts the profile and the Prágr22 Tbl. 3 values into [`MissionParams`]. The
+//! mission itself never sees the scenario's world.
+
+use anyhow::{Context, Result, bail};
+use std::cell::RefCell;
+use std::path::Path;
+use std::rc::Rc;
+use strider_core::Pose2;
+use strider_explore::FromParams;
+use strider_explore::evaluate::{NavigationMode, TourResult, run_tour};
+use strider_explore::registry::{self, Configured, RobotSpec, StrategyInfo};
+use strider_explore::{
+    GaitSpec, Mission, MissionLog, MissionParams, MissionProgress, MissionStrategy, Strategy,
+    TourExplorer,
+};
+use strider_log::recorder::{Recorder, RecorderOptions, Recording};
+use strider_log::writer::WriteSummary;
+use strider_map::rect::WorldRect;
+use strider_scenario::{Scenario, SensorKind};
+use strider_sim::Simulator;
+
+/// The horizontal field of view of each of the robot's sensors, degrees (360: omnidirectional).
+pub fn sensor_hfovs(robot: &strider_scenario::RobotProfile) -> Vec<f64> {
+    robot
+        .sensors
+        .iter()
+        .map(|s| match s.kind {
+            SensorKind::RgbD { hfov_deg, .. } => hfov_deg,
+            SensorKind::Omni { .. } => 360.0,
+        })
+        .collect()
+}
+
+/// What the strategies know of a scenario: its robot profile, map parameters, bounds and time
+/// limit. Never its world.
+pub fn robot_spec(sc: &Scenario) -> RobotSpec {
+    let b = &sc.bounds;
+    RobotSpec {
+        name: sc.robot.name.clone(),
+        gaits: sc
+            .robot
+            .gaits
+            .iter()
+            .map(|g| GaitSpec {
+                name: g.name.clone(),
+                v_max: g.max_speed,
+            })
+            .collect(),
+        sensor_hfov_deg: sensor_hfovs(&sc.robot),
+        map: sc.map.clone(),
+        bounds: Some(WorldRect::new(b.min, b.max)),
+        time_limit_s: sc.time_limit_s,
+        bumper: sc.robot.bumper,
+        proprio_rate_hz: sc.sim.proprio_rate_hz,
+        pose_rate_hz: sc.sim.pose_rate_hz,
+    }
+}
+
+/// The scenario's `[strategy.<name>]` section, if it has one. Parameters directly under
+/// `[strategy]` belong to no strategy: they are an error that says which section they go in.
+pub fn section<'a>(sc: &'a Scenario, name: &str) -> Result<Option<&'a toml::Table>> {
+    if let Some((key, _)) = sc.strategy.iter().find(|(_, v)| !v.is_table()) {
+        bail!(
+            "scenario {}: [strategy] key `{key}` must sit in the section of its strategy, e.g. [strategy.gtsp] (`strider strategies` lists them)",
+            sc.name
+        );
+    }
+    if let Some(unknown) = sc
+        .strategy
+        .keys()
+        .find(|k| registry::find(k).is_err() && !COMMAND_SECTIONS.contains(&k.as_str()))
+    {
+        bail!(
+            "scenario {}: [strategy.{unknown}] is neither a strategy ({}) nor a command's section ({})",
+            sc.name,
+            registry::names().join(", "),
+            COMMAND_SECTIONS.join(", ")
+        );
+    }
+    Ok(sc.strategy.get(name).and_then(|v| v.as_table()))
+}
+
+/// `[strategy.<name>]` sections read by commands rather than exploration strategies.
+pub const COMMAND_SECTIONS: [&str; 3] = ["tours", "navigate", "learn-bench"];
+
+/// The strategy `name` configured from the scenario's `[strategy.<name>]` and the overrides
+/// `sets`, after checking that the scenario's robot can carry it.
+pub fn configure(
+    sc: &Scenario,
+    name: &str,
+    sets: &[(String, String)],
+) -> Result<(&'static StrategyInfo, Configured)> {
+    let info = registry::find(name)?;
+    info.fits(&robot_spec(sc))?;
+    let table = section(sc, info.name)?;
+    // The scenario's section first, so that an error in it says where it is.
+    let from_file = info.configure(table, &[]).map_err(|e| {
+        anyhow::anyhow!(
+            "scenario {}, section [strategy.{}]: {e}",
+            sc.name,
+            info.name
+        )
+    })?;
+    if sets.is_empty() {
+        return Ok((info, from_file));
+    }
+    let configured = info.configure(table, sets)?;
+    Ok((info, configured))
+}
+
+/// Loads a built-in scenario by name or a scenario file by path.
+pub fn load(name_or_file: &str, world_seed: u64) -> Result<Scenario> {
+    Ok(Scenario::from_name_or_file(name_or_file, world_seed)?)
+}
+
+/// Validates a `--time-limit` override.
+pub fn checked_time_limit(t: f64) -> Result<f64> {
+    if !(t.is_finite() && t > 0.0) {
+        bail!("--time-limit must be a positive number of seconds, got {t}");
+    }
+    Ok(t)
+}
+
+/// Mission parameters of a Prágr22 strategy from a scenario: the robot profile, the map
+/// parameters and the strategy's `[strategy.<name>]` section.
+pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<MissionParams> {
+    let (_, configured) = configure(sc, strategy.name(), &[])?;
+    configured
+        .tour_mission(&robot_spec(sc), seed)
+        .context("not a Prágr22 strategy")
+}
+
+/// Drives `mission` on the scenario's world (simulator seeded with `seed`), calling `observe`
+/// about once per simulated second; with `mcap`, records the robot's sensor stream and the
+/// mission's snapshots there (see `strider_log::recorder`) and returns what was written.
+pub fn drive<S: MissionStrategy>(
+    sc: &Scenario,
+    seed: u64,
+    mission: &mut Mission<S>,
+    mcap: Option<&Path>,
+    mut observe: impl FnMut(&Mission<S>, &MissionProgress),
+) -> Result<Option<WriteSummary>> {
+    let mut sim = Simulator::new(sc, seed)?;
+    let Some(file) = mcap else {
+        mission.run_watched(&mut sim, observe)?;
+        return Ok(None);
+    };
+    let names = sc.robot.gaits.iter().map(|g| g.name.clone()).collect();
+    let rec = Rc::new(RefCell::new(Recorder::create(
+        file,
+        RecorderOptions::new(names),
+    )?));
+    let mut robot = Recording::new(sim, rec.clone());
+    mission.run_watched(&mut robot, |m, p| {
+        observe(m, p);
+        let layers = rec.borrow().grid_due();
+        rec.borrow_mut().snapshot(&m.snapshot(layers));
+    })?;
+    rec.borrow_mut().snapshot(&mission.snapshot(true));
+    drop(robot);
+    let rec = Rc::try_unwrap(rec)
+        .map_err(|_| anyhow::anyhow!("the recorder is still shared"))?
+        .into_inner();
+    Ok(Some(rec.finish()?))
+}
+
+/// Runs a mission of strategy `S` with `params` on the scenario's world (simulator seeded with
+/// `seed`), reporting progress about once per simulated second; with `mcap`, records it there
+/// (ROS 2 sensor stream and Foxglove visualisation, see `strider_log::recorder`) and returns
+/// what was written too.
+pub fn run_strategy<S: FromParams>(
+    sc: &Scenario,
+    params: S::Params,
+    seed: u64,
+    mcap: Option<&Path>,
+    mut progress: impl FnMut(&MissionProgress),
+) -> Result<(Mission<S>, Option<WriteSummary>)> {
+    let mut mission = S::mission(params)?;
+    let written = drive(sc, seed, &mut mission, mcap, |_, p| progress(p))?;
+    Ok((mission, written))
+}
+
+/// [`run_strategy`] of a Prágr22 mission, with its log.
+pub fn run_mission(
+    sc: &Scenario,
+    params: MissionParams,
+    seed: u64,
+    mcap: Option<&Path>,
+    progress: impl FnMut(&MissionProgress),
+) -> Result<(Mission<TourExplorer>, MissionLog, Option<WriteSummary>)> {
+    let (mission, written) = run_strategy::<TourExplorer>(sc, params, seed, mcap, progress)?;
+    let log = mission.strategy().log().clone();
+    Ok((mission, log, written))
+}
+
+/// Where a trial of a bench ran and how its exploration ended: the first fields of every
+/// trial's record.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct TrialRecord {
+    /// Scenario.
+    pub scenario: String,
+    /// Strategy.
+    pub strategy: String,
+    /// World seed.
+    pub world_seed: u64,
+    /// Mission seed.
+    pub seed: u64,
+    /// Why the exploration stopped.
+    pub termination: String,
+    /// Exploration time, simulated s.
+    pub exploration_time_s: f64,
+    /// Observed map cells.
+    pub observed_cells: usize,
+}
+
+impl TrialRecord {
+    /// The record of `mission`, run as `strategy` on `scenario` with seeds `(world_seed, seed)`.
+    pub fn of<S: MissionStrategy>(
+        scenario: &str,
+        strategy: &str,
+        (world_seed, seed): (u64, u64),
+        mission: &Mission<S>,
+    ) -> Self {
+        Self {
+            scenario: scenario.to_string(),
+            strategy: strategy.to_string(),
+            world_seed,
+            seed,
+            termination: format!("{:?}", mission.record().termination),
+            exploration_time_s: mission.record().exploration_time_s,
+            observed_cells: mission.body().map().observed_count(),
+        }
+    }
+}
+
+/// The benchmark tours of the scenario on the mission's frozen map and models, once per
+/// navigation mode, each in a fresh simulator (seeded with `seed`) standing at the tour's
+/// first waypoint facing the second. `on_start` is called before each (tour, mode).
+pub fn run_tours(
+    sc: &Scenario,
+    mission: &Mission<TourExplorer>,
+    seed: u64,
+    modes: &[NavigationMode],
+    on_start: impl FnMut(&str, NavigationMode),
+) -> Result<Vec<(String, Vec<TourResult>)>> {
+    let ex = mission.strategy();
+    run_tours_with(
+        sc,
+        Learned {
+            map: mission.body().map(),
+            models: ex.models(),
+            params: ex.params(),
+        },
+        seed,
+        modes,
+        on_start,
+    )
+}
+
+/// What benchmark tours navigate with: a map and the Prágr22 per-gait models learned on it.
+#[derive(Clone, Copy)]
+pub struct Learned<'a> {
+    /// The map.
+    pub map: &'a strider_map::ElevationMap,
+    /// The per-gait cost models.
+    pub models: &'a [strider_learn::cost_model::GaitCostModel],
+    /// Their mission parameters (gaits, c_loss, bounds, the stuck reflex).
+    pub params: &'a MissionParams,
+}
+
+/// [`run_tours`] with any map and Prágr22 models.
+pub fn run_tours_with(
+    sc: &Scenario,
+    learned: Learned,
+    seed: u64,
+    modes: &[NavigationMode],
+    mut on_start: impl FnMut(&str, NavigationMode),
+) -> Result<Vec<(String, Vec<TourResult>)>> {
+    let mut tours = Vec::new();
+    for tour in &sc.tours {
+        let mut pts = tour.waypoints.clone();
+        if tour.closed && pts.len() > 1 {
+            pts.push(pts[0]);
+        }
+        if pts.len() < 2 {
+            continue;
+        }
+        let mut results = Vec::new();
+        for &mode in modes {
+            on_start(&tour.name, mode);
+            let mut sc2 = sc.clone();
+            let yaw = (pts[1].y - pts[0].y).atan2(pts[1].x - pts[0].x);
+            sc2.start = Pose2::new(pts[0].x, pts[0].y, yaw);
+            let mut sim = Simulator::new(&sc2, seed)?;
+            results.push(run_tour(
+                &mut sim,
+                learned.map,
+                learned.models,
+                learned.params,
+                &pts,
+                mode,
+            )?);
+        }
+        tours.push((tour.name.clone(), results));
+    }
+    Ok(tours)
+}
