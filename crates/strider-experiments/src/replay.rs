@@ -225,7 +225,7 @@ fn replay_on_worker(
         );
     })?;
     let log = mission.strategy().log().clone();
-    write_figures(&mission, &[], out)?;
+    let figures = write_figures(&mission, &[], out)?;
     let stats = replay.stats().clone();
     let record = mission.record();
     let report = ReplayReport {
@@ -264,7 +264,7 @@ fn replay_on_worker(
         wall_time_s: wall.elapsed().as_secs_f64(),
         trajectory: record.trajectory.clone(),
     };
-    let path = write_reports(out, &report, &mission, &[])?;
+    let path = write_reports(out, &report, &figures, &[])?;
     Ok(Replay {
         report,
         path,

@@ -14,7 +14,14 @@ use strider_explore::planner::{CostMode, PlanningView};
 use strider_explore::{Mission, TourExplorer};
 use strider_learn::cost_model::GaitCostModel;
 
-use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas};
+use crate::render::{Canvas, palette, rgb_canvas, scalar_canvas, viridis};
+use crate::report::{Extent, Key, MapFigure};
+
+/// The colour of the exploration path.
+const PATH_COLOUR: [u8; 3] = [255, 0, 255];
+
+/// The inverse-velocity cost (Prágr22 Eq. 19–20): 1 is ideal terrain at the gait's full speed.
+const COST: &str = "cost";
 
 /// What every figure of one mission shares: the known area, cell size, pixel scale and cost
 /// range.
@@ -26,15 +33,49 @@ struct Frame<'a> {
     c_max: f32,
     colors: Vec<Option<Rgb8>>,
     out: &'a Path,
+    gaits: Vec<String>,
 }
 
 impl Frame<'_> {
-    /// Saves a scalar layer in the cost range (or its own range).
-    fn scalar(&self, values: &[f32], cost_range: bool, file: &str) -> Result<()> {
+    /// Saves a scalar layer of `quantity` in the cost range (or its own range) and describes it.
+    fn scalar(
+        &self,
+        values: &[f32],
+        cost_range: bool,
+        file: &str,
+        (title, quantity, caption): (&str, &str, &str),
+    ) -> Result<MapFigure> {
         let range = cost_range.then_some((1.0, self.c_max));
-        scalar_canvas(self.rect, self.d, self.scale, values, range)
-            .0
-            .save(&self.out.join(file))
+        let (canvas, (lo, hi)) = scalar_canvas(self.rect, self.d, self.scale, values, range);
+        canvas.save(&self.out.join(file))?;
+        let key = Key::ColourBar {
+            quantity: quantity.to_string(),
+            unit: String::new(),
+            min: lo as f64,
+            max: hi as f64,
+            colormap: viridis,
+        };
+        Ok(self.figure(file, title, caption, key))
+    }
+
+    /// Describes a figure written to `file` over the frame's area.
+    fn figure(&self, file: &str, title: &str, caption: &str, key: Key) -> MapFigure {
+        MapFigure {
+            src: file.to_string(),
+            title: title.to_string(),
+            caption: caption.to_string(),
+            extent: Extent::of_cells(self.rect, self.d),
+            key,
+        }
+    }
+
+    /// The legend of the gaits, in the palette's order.
+    fn gait_legend(&self) -> Vec<(String, [u8; 3])> {
+        self.gaits
+            .iter()
+            .enumerate()
+            .map(|(k, g)| (format!("gait {g}"), palette(k)))
+            .collect()
     }
 
     /// A canvas of the map's colours.
@@ -43,16 +84,16 @@ impl Frame<'_> {
     }
 }
 
-/// Writes the figures of `mission` and its driven `tours` into `out` (nothing before anything
-/// is mapped).
+/// Writes the figures of `mission` and its driven `tours` into `out` and returns what the report
+/// needs to show them (nothing before anything is mapped).
 pub fn write_figures(
     mission: &Mission<TourExplorer>,
     tours: &[(String, Vec<TourResult>)],
     out: &Path,
-) -> Result<()> {
+) -> Result<Vec<MapFigure>> {
     let map = mission.body().map();
     let Some(rect) = map.known_bounds() else {
-        return Ok(());
+        return Ok(Vec::new());
     };
     let f = Frame {
         mission,
@@ -62,18 +103,34 @@ pub fn write_figures(
         c_max: mission.strategy().params().cost_model.c_max as f32,
         colors: map.color_raster(rect),
         out,
+        gaits: mission
+            .strategy()
+            .params()
+            .gaits
+            .iter()
+            .map(|g| g.name.clone())
+            .collect(),
     };
     f.colour_canvas().save(&out.join("color.png"))?;
-    dominant_colour(&f)?;
-    planning_view(&f)?;
+    let mut figures = vec![f.figure(
+        "color.png",
+        "Map colour",
+        "The mean colour of the points that fell in each cell.",
+        Key::TrueColour {
+            overlays: Vec::new(),
+        },
+    )];
+    figures.push(dominant_colour(&f)?);
+    figures.extend(planning_view(&f)?);
     for (gi, m) in mission.strategy().models().iter().enumerate() {
-        gait_figures(&f, &mission.strategy().params().gaits[gi].name, m)?;
+        figures.extend(gait_figures(&f, &f.gaits[gi], m)?);
     }
-    paths(&f, tours)
+    figures.extend(paths(&f, tours)?);
+    Ok(figures)
 }
 
 /// Fig. 5E: the dominant colour prototype of each cell's descriptor ta(ν).
-fn dominant_colour(f: &Frame) -> Result<()> {
+fn dominant_colour(f: &Frame) -> Result<MapFigure> {
     let desc = f.mission.strategy().descriptors();
     let dominant: Vec<_> = f
         .rect
@@ -87,11 +144,22 @@ fn dominant_colour(f: &Frame) -> Result<()> {
             })
         })
         .collect();
-    rgb_canvas(f.rect, f.d, f.scale, &dominant).save(&f.out.join("dominant_colour.png"))
+    rgb_canvas(f.rect, f.d, f.scale, &dominant).save(&f.out.join("dominant_colour.png"))?;
+    let legend = COLOR_PROTOTYPES
+        .iter()
+        .map(|(name, c)| (name.to_string(), c.0))
+        .collect();
+    Ok(f.figure(
+        "dominant_colour.png",
+        "Dominant colour prototype",
+        "The colour prototype with the largest share of each cell's 9-bin descriptor ta(ν) \
+         (Fig. 5E).",
+        Key::Legend(legend),
+    ))
 }
 
 /// Fig. 5C–D: the merged planning cost and the cheapest gait per cell.
-fn planning_view(f: &Frame) -> Result<()> {
+fn planning_view(f: &Frame) -> Result<Vec<MapFigure>> {
     let (map, ex) = (f.mission.body().map(), f.mission.strategy());
     let Some(view) = PlanningView::build(
         map,
@@ -100,7 +168,7 @@ fn planning_view(f: &Frame) -> Result<()> {
         ex.params().c_loss,
         ex.params().bounds.as_ref(),
     ) else {
-        return Ok(());
+        return Ok(Vec::new());
     };
     // The view covers the known area grown by the footprint; crop it to the known area.
     let vr = view.rect();
@@ -108,7 +176,16 @@ fn planning_view(f: &Frame) -> Result<()> {
     let merged: Vec<f32> = (0..f.rect.len())
         .map(|k| crop(k).map_or(f32::NAN, |i| view.grid.costs()[i]))
         .collect();
-    f.scalar(&merged, true, "merged_cost.png")?;
+    let merged = f.scalar(
+        &merged,
+        true,
+        "merged_cost.png",
+        (
+            "Planning cost",
+            COST,
+            "The minimum cost over gaits after the distance transform (Fig. 5C).",
+        ),
+    )?;
     let mut g = Canvas::new(f.rect, f.d, f.scale);
     let obs = map.observed_raster(f.rect);
     g.fill(|k| {
@@ -117,30 +194,90 @@ fn planning_view(f: &Frame) -> Result<()> {
             .flatten()
             .map(|x| palette(x as usize))
     });
-    g.save(&f.out.join("gait.png"))
+    g.save(&f.out.join("gait.png"))?;
+    let gait = f.figure(
+        "gait.png",
+        "Cheapest gait",
+        "The gait with the lowest planning cost in each cell (Fig. 5D).",
+        Key::Legend(f.gait_legend()),
+    );
+    Ok(vec![merged, gait])
 }
 
 /// Fig. 5F–K for one gait: measured costs, classes, planning costs, raw prediction and its
 /// variance.
-fn gait_figures(f: &Frame, name: &str, m: &GaitCostModel) -> Result<()> {
+fn gait_figures(f: &Frame, name: &str, m: &GaitCostModel) -> Result<Vec<MapFigure>> {
     let costs: Vec<f32> = f
         .rect
         .cells()
         .map(|c| m.cell_cost(c).map_or(f32::NAN, |k| k.cost as f32))
         .collect();
-    f.scalar(&costs, true, &format!("measured_cost_{name}.png"))?;
-    let mut cl = Canvas::new(f.rect, f.d, f.scale);
-    let cells: Vec<_> = f.rect.cells().map(|c| m.planning_class(c)).collect();
-    cl.fill(|k| cells[k].map(|t| palette(t.0 as usize)));
-    cl.save(&f.out.join(format!("classes_{name}.png")))?;
-    f.scalar(
+    let measured = f.scalar(
+        &costs,
+        true,
+        &format!("measured_cost_{name}.png"),
+        (
+            &format!("Measured cost, gait {name}"),
+            COST,
+            "The fused measured costs (tanh-bounded) where the robot walked (Fig. 5F).",
+        ),
+    )?;
+    let (mu, var) = prediction(f, m);
+    let predicted = f.scalar(
+        &mu,
+        true,
+        &format!("prediction_{name}.png"),
+        (
+            &format!("GP prediction, gait {name}"),
+            COST,
+            "The raw GP cost prediction at the described cells (Fig. 5G).",
+        ),
+    )?;
+    let variance = f.scalar(
+        &var,
+        false,
+        &format!("variance_{name}.png"),
+        (
+            &format!("GP variance, gait {name}"),
+            "cost variance",
+            "The latent variance of the GP prediction, on its own range (Fig. 5H).",
+        ),
+    )?;
+    let classes = class_figure(f, name, m)?;
+    let planning = f.scalar(
         &m.planning_costs(f.rect),
         true,
         &format!("planning_cost_{name}.png"),
+        (
+            &format!("Planning cost, gait {name}"),
+            COST,
+            "The class costs used in planning (Fig. 5K).",
+        ),
     )?;
-    let (mu, var) = prediction(f, m);
-    f.scalar(&mu, true, &format!("prediction_{name}.png"))?;
-    f.scalar(&var, false, &format!("variance_{name}.png"))
+    Ok(vec![measured, predicted, variance, classes, planning])
+}
+
+/// Fig. 5I: the IGNG terrain classes after erosion and dilation, one colour per class.
+fn class_figure(f: &Frame, name: &str, m: &GaitCostModel) -> Result<MapFigure> {
+    let mut cl = Canvas::new(f.rect, f.d, f.scale);
+    let cells: Vec<_> = f.rect.cells().map(|c| m.planning_class(c)).collect();
+    cl.fill(|k| cells[k].map(|t| palette(t.0 as usize)));
+    let file = format!("classes_{name}.png");
+    cl.save(&f.out.join(&file))?;
+    let mut ids: Vec<usize> = cells.iter().flatten().map(|t| t.0 as usize).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    let legend = ids
+        .into_iter()
+        .map(|k| (format!("class {k}"), palette(k)))
+        .collect();
+    Ok(f.figure(
+        &file,
+        &format!("Terrain classes, gait {name}"),
+        "The IGNG terrain classes after erosion and dilation (Fig. 5I); the model's class table \
+         above gives each class's cost.",
+        Key::Legend(legend),
+    ))
 }
 
 /// Fig. 5G–H: the raw GP prediction and its (latent) variance at the described cells: every
@@ -173,7 +310,7 @@ fn prediction(f: &Frame, m: &GaitCostModel) -> (Vec<f32>, Vec<f32>) {
 }
 
 /// Fig. 7: the exploration path, and every tour in every navigation mode coloured by gait.
-fn paths(f: &Frame, tours: &[(String, Vec<TourResult>)]) -> Result<()> {
+fn paths(f: &Frame, tours: &[(String, Vec<TourResult>)]) -> Result<Vec<MapFigure>> {
     let mut path = f.colour_canvas();
     let pts: Vec<Point2> = f
         .mission
@@ -182,8 +319,16 @@ fn paths(f: &Frame, tours: &[(String, Vec<TourResult>)]) -> Result<()> {
         .iter()
         .map(|s| Point2::new(s.x, s.y))
         .collect();
-    path.polyline(&pts, [255, 0, 255], 2);
+    path.polyline(&pts, PATH_COLOUR, 2);
     path.save(&f.out.join("exploration_path.png"))?;
+    let mut figures = vec![f.figure(
+        "exploration_path.png",
+        "Exploration path",
+        "The path the robot drove while it explored (Fig. 7).",
+        Key::TrueColour {
+            overlays: vec![("exploration path".to_string(), PATH_COLOUR)],
+        },
+    )];
     for (name, modes) in tours {
         for r in modes {
             let mut c = f.colour_canvas();
@@ -195,8 +340,21 @@ fn paths(f: &Frame, tours: &[(String, Vec<TourResult>)]) -> Result<()> {
                     2,
                 );
             }
-            c.save(&f.out.join(format!("tour_{name}_{}.png", r.mode.name())))?;
+            let file = format!("tour_{name}_{}.png", r.mode.name());
+            c.save(&f.out.join(&file))?;
+            figures.push(f.figure(
+                &file,
+                &format!("Tour {name}, {} navigation", r.mode.name()),
+                &format!(
+                    "{:.0} s{}; the path is coloured by the gait it was walked in.",
+                    r.total_s,
+                    if r.completed { "" } else { " (incomplete)" }
+                ),
+                Key::TrueColour {
+                    overlays: f.gait_legend(),
+                },
+            ));
         }
     }
-    Ok(())
+    Ok(figures)
 }

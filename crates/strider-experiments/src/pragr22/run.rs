@@ -46,9 +46,9 @@ pub fn run_tour(
             progress.phase(&format!("tour {tour} with {} navigation", mode.name()));
         },
     )?;
-    write_figures(&mission, &tours, req.out)?;
+    let figures = write_figures(&mission, &tours, req.out)?;
     let report = report(sc, req, configured, (&mission, &log), &tours, wall);
-    let path = write_reports(req.out, &report, &mission, &tours)?;
+    let path = write_reports(req.out, &report, &figures, &tours)?;
     Ok(MissionRun {
         report,
         path,

@@ -7,6 +7,8 @@ use serde_json::Value;
 use strider_core::color::COLOR_PROTOTYPES;
 use strider_explore::evaluate::{NavigationMode, TourResult};
 
+use super::MapFigure;
+
 /// Escapes text for HTML.
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -41,17 +43,17 @@ impl Fields<'_> {
 }
 
 /// The page for the report `r` of a mission with `gaits` that drove `tours`.
-pub fn report_html(r: &Value, gaits: &[String], tours: &[(String, Vec<TourResult>)]) -> String {
+pub fn report_html(r: &Value, figs: &[MapFigure], tours: &[(String, Vec<TourResult>)]) -> String {
     let mut h = head(&Fields(r));
     if !tours.is_empty() {
         tour_tables(&mut h, tours);
     }
     models(&mut h, r);
-    figures(&mut h, gaits, tours);
+    figures(&mut h, figs);
     h.push_str(
-        "<p>Cost images use viridis from purple (cost 1) to yellow (c_max); the variance images \
-         span their own range. Unobserved cells are blank. Raw numbers: \
-         <a href=\"report.json\">report.json</a>.</p></body></html>\n",
+        "<p>Costs are the dimensionless inverse-velocity cost of Prágr22 Eq. 19–20: 1 is ideal \
+         terrain at the gait's full speed, c_max a robot that barely moves. Cells never observed \
+         are dark grey. Raw numbers: <a href=\"report.json\">report.json</a>.</p></body></html>\n",
     );
     h
 }
@@ -59,7 +61,7 @@ pub fn report_html(r: &Value, gaits: &[String], tours: &[(String, Vec<TourResult
 const STYLE: &str = "<style>body{font-family:sans-serif;max-width:1200px;margin:2em auto;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}\
 th{background:#f3f3f3}td:first-child,th:first-child{text-align:left}\
-figure{display:inline-block;margin:6px;vertical-align:top;width:380px}img{width:100%;image-rendering:pixelated;border:1px solid #ddd}\
+figure{display:inline-block;margin:6px;vertical-align:top;width:480px}figure svg{width:100%;height:auto}\
 figcaption{font-size:90%}</style>";
 
 /// The document head and the summary: of the exploration, or of a replayed log.
@@ -68,13 +70,21 @@ fn head(f: &Fields) -> String {
     let _ = write!(
         h,
         "<!doctype html><html><head><meta charset=\"utf-8\"><title>Strider: {}</title>{STYLE}</head><body>",
-        esc(&f.text("scenario"))
+        esc(&title(f))
     );
     match f.0.get("source_log").and_then(|v| v.as_str()) {
         Some(log) => replay_summary(&mut h, f, log),
         None => mission_summary(&mut h, f),
     }
     h
+}
+
+/// The page title: the explored scenario and strategy, or the replayed log.
+fn title(f: &Fields) -> String {
+    match f.0.get("source_log").and_then(|v| v.as_str()) {
+        Some(log) => format!("replay of {log}"),
+        None => format!("{} on {}", f.text("strategy"), f.text("scenario")),
+    }
 }
 
 fn mission_summary(h: &mut String, f: &Fields) {
@@ -245,69 +255,13 @@ fn class_row(h: &mut String, c: &Value) {
     );
 }
 
-/// The figures with their captions.
-fn figures(h: &mut String, gaits: &[String], tours: &[(String, Vec<TourResult>)]) {
+/// The figures, each with its axes in metres, its colour bar or legend, and its caption.
+fn figures(h: &mut String, figures: &[MapFigure]) {
+    if figures.is_empty() {
+        return;
+    }
     h.push_str("<h2>Figures</h2>");
-    for (file, caption) in figure_list(gaits, tours) {
-        let _ = write!(
-            h,
-            "<figure><img src=\"{f}\" alt=\"{c}\"><figcaption>{c}</figcaption></figure>",
-            f = esc(&file),
-            c = esc(&caption)
-        );
+    for (id, fig) in figures.iter().enumerate() {
+        h.push_str(&fig.to_html(id));
     }
-}
-
-/// (file, caption) of every figure, in the page's order.
-fn figure_list(gaits: &[String], tours: &[(String, Vec<TourResult>)]) -> Vec<(String, String)> {
-    let own = |f: &str, c: &str| (f.to_string(), c.to_string());
-    let mut figs = vec![
-        own("color.png", "Map colour (mean cell colour)."),
-        own(
-            "dominant_colour.png",
-            "Dominant colour prototype of each cell's 9-bin descriptor ta(ν) (Fig. 5E).",
-        ),
-        own(
-            "merged_cost.png",
-            "Planning cost: the minimum over gaits after the distance transform (Fig. 5C).",
-        ),
-        own(
-            "gait.png",
-            "Cheapest gait per cell (Fig. 5D; palette order = gait order).",
-        ),
-    ];
-    for g in gaits {
-        for (stem, what) in [
-            (
-                "measured_cost",
-                "measured costs (tanh-bounded) where it walked (Fig. 5F)",
-            ),
-            ("prediction", "raw GP cost prediction (Fig. 5G)"),
-            ("variance", "GP prediction variance (Fig. 5H)"),
-            (
-                "classes",
-                "IGNG terrain classes after erosion and dilation (Fig. 5I)",
-            ),
-            ("planning_cost", "class costs used in planning (Fig. 5K)"),
-        ] {
-            figs.push((format!("{stem}_{g}.png"), format!("Gait {g}: {what}.")));
-        }
-    }
-    figs.push(own(
-        "exploration_path.png",
-        "The exploration path (Fig. 7).",
-    ));
-    for (name, modes) in tours {
-        for r in modes {
-            figs.push((
-                format!("tour_{name}_{}.png", r.mode.name()),
-                format!(
-                    "Tour {name}, {} navigation: {:.0} s (colour = gait).",
-                    r.mode.name(),
-                    r.total_s
-                ),
-            ));
-        }
-    }
-    figs
 }
