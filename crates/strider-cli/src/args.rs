@@ -60,7 +60,7 @@ pub enum Command {
 pub enum LearnCommand {
     /// Learner benchmarks: Prágr19 §V-A (incremental stream on lab-track: learning and inference
     /// time per step, RMSE and predictive std over n, for RBCM with four kernels, the full GP,
-    /// IGMN and a regression tree; DIR/learn_bench.json and .png) and Prágr18 Table I (cost of
+    /// IGMN and a regression tree; DIR/learn_bench.json, .md and .png) and Prágr18 Table I (cost of
     /// transport learned on one pass of cot-track and predicted from an aerial view, per learner ×
     /// descriptor; DIR/c1_table.md and .json).
     Bench(LearnBenchArgs),
