@@ -10,7 +10,7 @@
 //! * [`format`](mod@format): the file format (TOML naming PNG layers), [`Scenario::load`] and
 //!   [`Scenario::save`].
 //! * [`profiles`]: the built-in robot profiles.
-//! * [`builtin`]: the procedurally generated worlds of SCENARIOS.md (and `cot-track`, Prágr18)
+//! * [`builtin`]: the procedurally generated built-in worlds (and `cot-track`, Prágr18)
 //!   and their registry.
 //! * [`ground_truth`]: flood fill and nearest-cell queries over ground-truth admissibility
 //!   ([`World::gt_admissible`] applies `strider_map`'s passability rule to the true elevation).

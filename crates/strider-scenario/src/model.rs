@@ -258,7 +258,7 @@ fn five() -> f64 {
     5.0
 }
 
-/// A robot profile (SCENARIOS.md "Robot profiles").
+/// A robot profile (the scenario format in docs/guide.md, "Scenarios and your own world").
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotProfile {

@@ -1,4 +1,4 @@
-//! Built-in robot profiles (SCENARIOS.md "Robot profiles").
+//! Built-in robot profiles (the scenario format in docs/guide.md, "Scenarios and your own world").
 //!
 //! A scenario file selects one with `[robot] profile = "hexapod-small"` and may override any of
 //! its keys; [`profile`] returns them by name.

@@ -1,5 +1,5 @@
 //! The built-in scenarios: determinism, seed families, admissible start and waypoints, and the
-//! per-world layout promises of SCENARIOS.md.
+//! per-world layout promises of each built-in world.
 
 use strider_core::Point2;
 use strider_scenario::ground_truth::{flood_fill, point_in_mask};

@@ -58,7 +58,8 @@ impl Default for MotionParams {
     }
 }
 
-/// Hard ceiling of the speed on stuck terrain, fraction of the gait's maximum (SCENARIOS.md).
+/// Hard ceiling of the speed on stuck terrain, fraction of the gait's maximum (a property of the
+/// simulated world, not of any method).
 pub const STUCK_SPEED_CEILING: f64 = 0.02;
 
 /// Everything the motion model reads from the world (borrowed for one step).

@@ -67,7 +67,7 @@ const PLOT_W: f64 = 300.0;
 const MARGIN_LEFT: f64 = 46.0;
 const MARGIN_TOP: f64 = 22.0;
 const MARGIN_BOTTOM: f64 = 34.0;
-const KEY_W: f64 = 120.0;
+const KEY_W: f64 = 150.0;
 const UNKNOWN_NOTE: &str = "dark grey: not observed";
 
 impl MapFigure {

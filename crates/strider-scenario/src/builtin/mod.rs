@@ -1,4 +1,4 @@
-//! The built-in scenarios (SCENARIOS.md "Worlds"), generated procedurally from a world seed.
+//! The built-in scenarios (docs/guide.md, "Scenarios and your own world"), generated procedurally from a world seed.
 //!
 //! Each world is a function of `world_seed: u64`: seed 1 is "the" world of the paper, other seeds
 //! give a random family with the same terrain types and rules, so strategies can be compared over
