@@ -291,7 +291,7 @@ pub fn compose(panels: &[Canvas], cols: usize) -> Canvas {
 }
 
 /// A round step of about a fifth of `span`.
-fn nice_step(span: f64) -> f64 {
+pub(crate) fn nice_step(span: f64) -> f64 {
     let raw = (span / 5.0).max(1e-9);
     let mag = 10f64.powf(raw.log10().floor());
     [1.0, 2.0, 5.0, 10.0]

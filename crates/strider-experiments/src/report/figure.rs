@@ -5,6 +5,8 @@
 
 use std::fmt::Write as _;
 
+use crate::render::nice_step;
+
 /// The world rectangle a map raster covers, in metres.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Extent {
@@ -258,24 +260,14 @@ pub fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     (first..=last).map(|k| k as f64 * step).collect()
 }
 
-/// A round step of about a fifth of `span`.
-pub fn nice_step(span: f64) -> f64 {
-    let raw = (span / 5.0).max(1e-9);
-    let mag = 10f64.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .map(|m| m * mag)
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * mag)
-}
-
 fn tick_label(v: f64) -> String {
     let v = if v.abs() < 1e-12 { 0.0 } else { v };
     let s = format!("{v:.3}");
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-fn escape(s: &str) -> String {
+/// Escapes text for HTML text and attribute values.
+pub(super) fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

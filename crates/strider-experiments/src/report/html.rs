@@ -8,13 +8,7 @@ use strider_core::color::COLOR_PROTOTYPES;
 use strider_explore::evaluate::{NavigationMode, TourResult};
 
 use super::MapFigure;
-
-/// Escapes text for HTML.
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
+use super::figure::escape as esc;
 
 /// Reads fields of the report.
 struct Fields<'a>(&'a Value);
