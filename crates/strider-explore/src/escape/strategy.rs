@@ -5,11 +5,13 @@ use super::view::ObstacleState;
 use super::{EscapeMission, EscapeParams, Modules};
 use crate::kernel::{
     Actuators, Body, BodyParams, Every, FromParams, GoalCounts, MissionError, Strategy,
-    Termination, lattice_map_params, site, spatial_goal_set, unknown_layer,
+    Termination, lattice_map_params, site, spatial_goal_set,
 };
 use strider_core::Proprioception;
 use strider_core::interface::MotionState;
-use strider_core::snapshot::{GoalKind as SnapGoalKind, GoalSet, MeasuredCost, Quantity, Snapshot};
+use strider_core::snapshot::{
+    GoalKind as SnapGoalKind, GoalSet, MeasuredCost, ModelLayer, Quantity, Snapshot,
+};
 
 impl FromParams for EscapeMission {
     type Params = EscapeParams;
@@ -123,7 +125,7 @@ impl Strategy for EscapeMission {
             return;
         };
         let n = layers.rect.len();
-        let mut layer = unknown_layer("force", Quantity::PushForce, None, n);
+        let mut layer = ModelLayer::unknown("force", Quantity::PushForce, None, n);
         for (k, c) in layers.rect.cells().enumerate() {
             if let Some(h) = self.haptic.get(c) {
                 layer.measured[k] = h.force as f32;

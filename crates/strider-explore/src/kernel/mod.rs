@@ -23,7 +23,7 @@ pub use manoeuvres::{Every, LOOK_AROUND_S, Manoeuvre, look_around, start_look_ar
 pub use record::{
     GoalCounts, MissionError, MissionProgress, RunRecord, Termination, TrajectorySample,
 };
-pub use snapshot::{map_layers, site, site_at, spatial_goal_set, unknown_layer};
+pub use snapshot::{map_layers, site, site_at, spatial_goal_set};
 pub use strategy::{Actuators, Strategy};
 
 use std::time::Instant;
@@ -235,24 +235,15 @@ impl<S: Strategy> Mission<S> {
     pub fn snapshot(&self, layers: bool) -> Snapshot {
         let map = self.body.map();
         let layers = layers.then(|| map_layers(map));
-        let mut snap = Snapshot {
-            time_s: self.now,
-            strategy: self.strategy.name().to_string(),
-            cell_size: map.cell_size(),
-            robot: self.body.pose(),
-            gait: self.gait,
-            path: self.commanded.clone(),
-            goals: Vec::new(),
-            tour: Vec::new(),
-            layers,
-            measured: Vec::new(),
-        };
+        let mut snap = Snapshot::new(self.now, self.strategy.name(), map.cell_size());
+        snap.robot = self.body.pose();
+        snap.gait = self.gait;
+        snap.path = self.commanded.clone();
+        snap.layers = layers;
         self.strategy.describe(&self.body, &mut snap);
         // A model layer of the wrong size (a strategy's mistake) is dropped, not indexed.
         if let Some(l) = snap.layers.as_mut() {
-            let n = l.rect.len();
-            l.models
-                .retain(|m| m.cost.len() == n && m.variance.len() == n && m.measured.len() == n);
+            l.drop_misfit_models();
         }
         snap
     }

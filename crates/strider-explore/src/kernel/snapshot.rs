@@ -2,8 +2,8 @@
 //! the map's elevation, and the spatial goals.
 
 use super::body::Body;
-use strider_core::snapshot::{GoalKind, GoalSet, Layers, ModelLayer, Quantity};
-use strider_core::{Cell, CellRect, GaitId, Point2, Point3};
+use strider_core::snapshot::{GoalKind, GoalSet, Layers};
+use strider_core::{Cell, CellRect, Point2, Point3};
 use strider_map::{ElevationMap, SpatialGoal};
 
 /// The map's layers over its known part (an empty rectangle before anything is mapped, so a
@@ -50,26 +50,9 @@ fn with_elevation(p: Point2, z: Option<f32>) -> Point3 {
 
 /// The goal set `spatial_goals` of a strategy's spatial goals.
 pub fn spatial_goal_set(body: &Body, goals: &[SpatialGoal]) -> GoalSet {
-    GoalSet {
-        name: "spatial_goals".into(),
-        kind: GoalKind::Spatial,
-        sites: goals.iter().map(|g| site(body, g.cell)).collect(),
-    }
-}
-
-/// A model layer of `n` cells with every value unknown (NaN), to be filled in.
-pub fn unknown_layer(
-    name: impl Into<String>,
-    quantity: Quantity,
-    gait: Option<GaitId>,
-    n: usize,
-) -> ModelLayer {
-    ModelLayer {
-        name: name.into(),
-        quantity,
-        gait,
-        cost: vec![f32::NAN; n],
-        variance: vec![f32::NAN; n],
-        measured: vec![f32::NAN; n],
-    }
+    GoalSet::new(
+        "spatial_goals",
+        GoalKind::Spatial,
+        goals.iter().map(|g| site(body, g.cell)).collect(),
+    )
 }

@@ -5,10 +5,12 @@ use super::goals::GoalKind;
 use super::{RbcmGreedy, RbcmGreedyParams};
 use crate::kernel::{
     Actuators, Body, BodyParams, Every, FromParams, GoalCounts, MissionError, Strategy,
-    Termination, site_at, unknown_layer,
+    Termination, site_at,
 };
 use strider_core::interface::MotionState;
-use strider_core::snapshot::{GoalKind as SnapGoalKind, GoalSet, MeasuredCost, Quantity, Snapshot};
+use strider_core::snapshot::{
+    GoalKind as SnapGoalKind, GoalSet, MeasuredCost, ModelLayer, Quantity, Snapshot,
+};
 use strider_core::{GaitId, Point2, PoseStamped, Proprioception};
 
 impl FromParams for RbcmGreedy {
@@ -121,7 +123,8 @@ impl Strategy for RbcmGreedy {
         // Mcost has its own resolution: each map cell takes the Mcost cell its centre is in.
         let cm = &self.cost_map;
         let n = layers.rect.len();
-        let mut layer = unknown_layer("rbcm", Quantity::RollVariance, Some(self.params.gait), n);
+        let mut layer =
+            ModelLayer::unknown("rbcm", Quantity::RollVariance, Some(self.params.gait), n);
         for (k, c) in layers.rect.cells().enumerate() {
             let m = cm
                 .cell_at(c.center(cell_size))
