@@ -56,7 +56,8 @@ fn dispatch(command: Command) -> Result<()> {
 }
 
 /// The error and its causes on one line, joined by ": ". A cause whose text the line already
-/// holds is skipped (library errors often embed their source in their own message).
+/// holds is skipped (library errors often embed their source in their own message). Line breaks
+/// and control characters quoted from the input are flattened and escaped.
 fn one_line(e: &anyhow::Error) -> String {
     let mut line = e.to_string();
     for cause in e.chain().skip(1) {
@@ -66,7 +67,7 @@ fn one_line(e: &anyhow::Error) -> String {
             line.push_str(&c);
         }
     }
-    line.replace('\n', " ")
+    strider_core::text::one_line(&line)
 }
 
 #[cfg(test)]

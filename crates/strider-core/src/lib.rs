@@ -11,6 +11,8 @@
 //!   proprioception) and the sensor/actuator interface. The simulator implements it; a real robot
 //!   or a recorded log implements it too, so the autonomy stack never knows which one it runs on.
 //!
+//! * [`text`]: error text that is safe to print on one line.
+//!
 //! This crate depends on nothing of Strider's and has no algorithm beyond geometry.
 
 pub mod color;
@@ -19,6 +21,7 @@ pub mod grid;
 pub mod interface;
 pub mod msg;
 pub mod snapshot;
+pub mod text;
 
 pub use color::{Lab, Rgb8};
 pub use geom::{Point2, Point3, Pose2};
