@@ -441,6 +441,16 @@ mod tests {
     }
 
     #[test]
+    fn maps_from_outside_parameters_are_checked() {
+        let bad = MapParams {
+            cell_size: -0.1,
+            ..MapParams::default()
+        };
+        assert!(crate::ElevationMap::try_new(bad).is_err());
+        assert!(crate::ElevationMap::try_new(MapParams::default()).is_ok());
+    }
+
+    #[test]
     fn values_print_compactly() {
         assert_eq!(fmt_value(1e300), "1e300");
         assert_eq!(fmt_value(-1e-9), "-1e-9");

@@ -379,13 +379,29 @@ impl Scenario {
             return bad(format!("[start] {}", outside(w, s)));
         }
         if let Some(why) = self.start_blocked() {
-            return bad(format!("[start] ({}, {}) {why}", s.x, s.y));
+            return bad(format!("[start] {} {why}", pair(s)));
         }
         let b = self.bounds;
         if !(b.min.is_finite() && b.max.is_finite() && b.min.x < b.max.x && b.min.y < b.max.y) {
             return bad(format!(
-                "[bounds] min ({}, {}) must lie below and left of max ({}, {})",
-                b.min.x, b.min.y, b.max.x, b.max.y
+                "[bounds] min {} must lie below and left of max {}",
+                pair(b.min),
+                pair(b.max)
+            ));
+        }
+        // Grids over the bounds (e.g. the energy map of tours) are sized by them; beyond the
+        // world there is nothing to explore. One cell of slack for rounded corners.
+        let (e, slack) = (w.extent(), w.resolution);
+        if b.min.x < e.min.x - slack
+            || b.min.y < e.min.y - slack
+            || b.max.x > e.max.x + slack
+            || b.max.y > e.max.y + slack
+        {
+            return bad(format!(
+                "[bounds] min {} … max {} reach beyond the world {}",
+                pair(b.min),
+                pair(b.max),
+                extent(w)
             ));
         }
         for t in &self.tours {
@@ -472,10 +488,23 @@ impl Scenario {
 }
 
 /// "(x, y) lies outside the world [x0, x1] × [y0, y1] m".
-pub(crate) fn outside(world: &World, p: Point2) -> String {
+fn outside(world: &World, p: Point2) -> String {
+    format!("{} lies outside the world {}", pair(p), extent(world))
+}
+
+/// "(x, y)", each coordinate compact.
+fn pair(p: Point2) -> String {
+    format!("({}, {})", fmt_value(p.x), fmt_value(p.y))
+}
+
+/// "[x0, x1] × [y0, y1] m".
+fn extent(world: &World) -> String {
     let b = world.extent();
     format!(
-        "({}, {}) lies outside the world [{}, {}] × [{}, {}] m",
-        p.x, p.y, b.min.x, b.max.x, b.min.y, b.max.y
+        "[{}, {}] × [{}, {}] m",
+        fmt_value(b.min.x),
+        fmt_value(b.max.x),
+        fmt_value(b.min.y),
+        fmt_value(b.max.y)
     )
 }

@@ -330,6 +330,16 @@ fn bad_resolution_and_origin() {
     let dir = fixture("origin-ok");
     edit_toml(&dir, "origin = [0.0, 0.0]", "origin = [-1.0, 0.5]");
     edit_toml(&dir, "x = 0.6", "x = -0.4");
+    edit_toml(
+        &dir,
+        "min = { x = 0.25, y = 0.25 }",
+        "min = { x = -0.75, y = 0.75 }",
+    );
+    edit_toml(
+        &dir,
+        "max = { x = 5.75, y = 4.75 }",
+        "max = { x = 4.75, y = 5.25 }",
+    );
     edit_toml(&dir, "[[tours]]", "[[tours]]\n# moved");
     edit_toml(
         &dir,
@@ -400,6 +410,17 @@ fn start_and_tours_outside_the_world() {
     let (_, m) = edited_err("start", "x = 0.6", "x = 7.5");
     assert!(
         m.contains("[start] (7.5, 0.6) lies outside the world [0, 6] × [0, 5] m"),
+        "{m}"
+    );
+    let (_, m) = edited_err(
+        "bounds",
+        "max = { x = 5.75, y = 4.75 }",
+        "max = { x = 1e300, y = 4.75 }",
+    );
+    assert!(
+        m.contains(
+            "[bounds] min (0.25, 0.25) … max (1e300, 4.75) reach beyond the world [0, 6] × [0, 5] m"
+        ),
         "{m}"
     );
     let (_, m) = edited_err("tour", "{ x = 5.4, y = 4.4 }", "{ x = 5.4, y = -4.4 }");
