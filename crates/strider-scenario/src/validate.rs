@@ -331,12 +331,14 @@ impl Scenario {
         let e = self.world.extent();
         let shorter = (e.max.x - e.min.x).min(e.max.y - e.min.y);
         let coarsest = shorter / MIN_MAP_CELLS_ACROSS;
+        // Finer map cells than the world's see nothing the world does not hold, and multiply
+        // the cell count.
         if cs < res || cs > coarsest {
             return Err(ParamError::new(
                 "map.cell_size",
                 fmt_value(cs),
                 format!(
-                    "in [{}, {}] m: not finer than the world's resolution (finer map cells see nothing the world's cells do not hold, and multiply the cell count) and at least {MIN_MAP_CELLS_ACROSS} cells across the world's shorter side ({} m)",
+                    "in [{}, {}] m: not finer than the world's resolution, and at least {MIN_MAP_CELLS_ACROSS} cells across the world's shorter side ({} m)",
                     fmt_value(res),
                     fmt_value(coarsest),
                     fmt_value(shorter)

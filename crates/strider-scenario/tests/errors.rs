@@ -461,7 +461,7 @@ fn map_parameters_are_checked_with_key_value_and_range() {
             "cell-coarse",
             "cell_size = 0.05",
             "cell_size = 2.0",
-            "map.cell_size = 2: must be in [0.05, 1.25] m: not finer than the world's resolution (finer map cells see nothing the world's cells do not hold, and multiply the cell count) and at least 4 cells across the world's shorter side (5 m)",
+            "map.cell_size = 2: must be in [0.05, 1.25] m: not finer than the world's resolution, and at least 4 cells across the world's shorter side (5 m)",
         ),
         (
             "tile",
