@@ -123,14 +123,21 @@ impl CellRect {
     }
 }
 
+/// Largest radius, in cells, of a disc that [`disc_offsets`] builds: 2048 cells give 13.2 M
+/// offsets (105 MB). The parameters that become discs are validated far below it where they
+/// enter (the map's radii at most 1000 cells, footprints 200); the cap only keeps a radius that
+/// escaped validation from allocating and looping without bound.
+pub const MAX_DISC_RADIUS_CELLS: i32 = 2048;
+
 /// Cell offsets of a disc of radius `r` (same unit as `d`), centre included: every cell whose
 /// centre lies within `r` of the centre cell's centre. Used for footprints δ(r, ν) (Prágr22 Eq. 12)
-/// and descriptor neighbourhoods. Sorted by distance, then row, then column.
+/// and descriptor neighbourhoods. Sorted by distance, then row, then column. A radius beyond
+/// [`MAX_DISC_RADIUS_CELLS`] cells is cut to it.
 pub fn disc_offsets(r: f64, d: f64) -> Vec<(i32, i32)> {
     if !(r.is_finite() && d.is_finite() && d > 0.0 && r >= 0.0) {
         return vec![(0, 0)];
     }
-    let rc = r / d;
+    let rc = (r / d).min(MAX_DISC_RADIUS_CELLS as f64);
     let n = rc.floor() as i32;
     let mut v: Vec<(i32, i32)> = Vec::with_capacity(((2 * n + 1) * (2 * n + 1)) as usize);
     for dj in -n..=n {
@@ -302,6 +309,17 @@ mod tests {
         assert_eq!(disc_offsets(0.0, 0.05), vec![(0, 0)]);
         assert_eq!(disc_offsets(0.05, 0.05).len(), 5);
         assert_eq!(disc_offsets(0.25, 0.05).len(), 81);
+    }
+
+    #[test]
+    fn huge_discs_are_capped() {
+        // 1e9 m at 5 cm: 2e10 cells, beyond i32; the disc stops at the cap.
+        let v = disc_offsets(1e9, 0.05);
+        let n = MAX_DISC_RADIUS_CELLS;
+        assert!(v.iter().all(|&(i, j)| i.abs() <= n && j.abs() <= n));
+        assert!(v.contains(&(n, 0)) && !v.contains(&(n, 1)));
+        assert_eq!(disc_offsets(f64::INFINITY, 0.05), vec![(0, 0)]);
+        assert_eq!(disc_offsets(1.0, 0.0), vec![(0, 0)]);
     }
 
     #[test]

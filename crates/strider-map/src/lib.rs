@@ -45,7 +45,7 @@ pub use fusion::FuseStats;
 pub use information_gain::{InfoGain, information_gain};
 pub use map::ElevationMap;
 pub use observability::observable;
-pub use params::{ColorMode, MapParams};
+pub use params::{ColorMode, MapParams, ParamError};
 pub use passability::Passability;
 pub use reachability::Reachability;
 pub use rect::WorldRect;

@@ -7,7 +7,7 @@
 //! module, and the `passability` module keeps π and admissibility up to date.
 
 use crate::fusion::scratch::FusionScratch;
-use crate::params::MapParams;
+use crate::params::{MapParams, ParamError};
 use crate::passability::rule::Passability;
 use crate::rect;
 use crate::tiles::TiledLayer;
@@ -43,7 +43,15 @@ pub struct ElevationMap {
 }
 
 impl ElevationMap {
-    /// An empty map.
+    /// An empty map, after checking `params` ([`MapParams::validate`]): the constructor for
+    /// parameters from outside (files, command lines).
+    pub fn try_new(params: MapParams) -> Result<Self, ParamError> {
+        params.validate()?;
+        Ok(Self::new(params))
+    }
+
+    /// An empty map. `params` are trusted: they come from a scenario or configuration that
+    /// validated them where they entered, or from code; see [`ElevationMap::try_new`].
     pub fn new(params: MapParams) -> Self {
         let ts = params.tile_size;
         Self {

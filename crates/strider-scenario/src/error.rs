@@ -98,6 +98,14 @@ pub enum ScenarioError {
         /// How many pixels carry it.
         count: usize,
     },
+    /// A parameter is outside its allowed range (or a layer is larger than the limits allow).
+    #[error("{}: {source}", path.display())]
+    Param {
+        /// The scenario file (or the layer file, or `<name>` for a generated scenario).
+        path: PathBuf,
+        /// Which key, its value and what is allowed.
+        source: strider_map::ParamError,
+    },
     /// A value of the scenario is invalid (out of range, inconsistent, unknown name).
     #[error("{}: {message}", path.display())]
     Invalid {

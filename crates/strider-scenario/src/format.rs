@@ -94,8 +94,14 @@
 //! ```
 //!
 //! Every terrain response's gait name must be a gait of the robot; gaits a terrain does not list
-//! get [`crate::GaitResponse::default`]. The start and every waypoint must lie on the world.
-//! Errors name the file and the problem in one line ([`ScenarioError`]).
+//! get [`crate::GaitResponse::default`]. The start and every waypoint must lie on the world,
+//! the start on open ground (passable, and no obstacle within `map.r_robot`). Every value is
+//! checked against its documented range, and the layers' size against a cell limit read from
+//! the PNG headers before decoding ([`crate::validate`]). Errors name the file and the problem
+//! in one line ([`ScenarioError`]), a parameter as `key = value: must be <range and unit>`.
+//!
+//! [`Scenario::from_toml_str`] loads the same format from a string, with the layers from any
+//! [`LayerSource`] (e.g. PNG bytes in memory).
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -105,11 +111,13 @@ use strider_core::{Cell, CellRect, Point2, Pose2, Rgb8};
 use strider_map::MapParams;
 
 use crate::error::ScenarioError;
+use crate::layers::{LayerDir, LayerSource};
 use crate::model::{
     Bounds, ElevationEncoding, RobotProfile, Scenario, SimParams, TerrainType, Tour, World,
 };
 use crate::png_io;
 use crate::profiles;
+use crate::validate::WORLD_RESOLUTION;
 
 /// File name of the scenario TOML inside a scenario directory.
 pub const SCENARIO_FILE: &str = "scenario.toml";
@@ -247,125 +255,7 @@ fn resolve_robot(path: &Path, table: toml::Table) -> Result<RobotProfile, Scenar
         .map_err(|e| ScenarioError::invalid(path, format!("[robot] {}", e.message().trim())))
 }
 
-fn outside(world: &World, p: Point2) -> String {
-    let b = world.extent();
-    format!(
-        "({}, {}) lies outside the world [{}, {}] × [{}, {}] m",
-        p.x, p.y, b.min.x, b.max.x, b.min.y, b.max.y
-    )
-}
-
-fn positive(v: f64) -> bool {
-    v.is_finite() && v > 0.0
-}
-
 impl Scenario {
-    /// Checks the consistency of a scenario: positive resolution and speeds, unique terrain
-    /// indices, terrain indices of the layer defined, gait names of terrain responses known to
-    /// the robot, start and tour waypoints on the world, sane bounds and time limit. `path`
-    /// names the scenario in error messages.
-    pub fn validate(&self, path: &Path) -> Result<(), ScenarioError> {
-        let bad = |m: String| Err(ScenarioError::invalid(path, m));
-        let w = &self.world;
-        if !positive(w.resolution) {
-            return bad(format!(
-                "[world] resolution must be a positive number of metres, found {}",
-                w.resolution
-            ));
-        }
-        if w.rect.is_empty()
-            || w.elevation.len() != w.rect.len()
-            || w.color.len() != w.rect.len()
-            || w.terrain.len() != w.rect.len()
-        {
-            return bad("world layers are empty or differ in size".into());
-        }
-        for (k, t) in w.terrains.iter().enumerate() {
-            if w.terrains[..k].iter().any(|o| o.index == t.index) {
-                return bad(format!(
-                    "[[terrain]] index {} is defined twice ('{}')",
-                    t.index, t.name
-                ));
-            }
-        }
-        if let Some(k) = w.terrain.iter().position(|&i| w.terrain_type(i).is_none()) {
-            let c = w.rect.cell(k);
-            return bad(format!(
-                "terrain index {} at cell ({}, {}) is not in the [[terrain]] table",
-                w.terrain[k], c.i, c.j
-            ));
-        }
-        let r = &self.robot;
-        if r.gaits.is_empty() {
-            return bad("[robot] has no gaits".into());
-        }
-        for g in &r.gaits {
-            if !positive(g.max_speed) {
-                return bad(format!(
-                    "[robot] gait '{}' max_speed must be positive, found {}",
-                    g.name, g.max_speed
-                ));
-            }
-        }
-        if !(r.footprint_radius.is_finite() && r.footprint_radius >= 0.0) {
-            return bad(format!(
-                "[robot] footprint_radius must be ≥ 0, found {}",
-                r.footprint_radius
-            ));
-        }
-        let gait_names: Vec<&str> = r.gaits.iter().map(|g| g.name.as_str()).collect();
-        for t in &w.terrains {
-            if let Some(g) = t.gaits.keys().find(|g| !gait_names.contains(&g.as_str())) {
-                return bad(format!(
-                    "[[terrain]] '{}' (index {}): unknown gait '{g}' (robot '{}' has gaits: {})",
-                    t.name,
-                    t.index,
-                    r.name,
-                    gait_names.join(", ")
-                ));
-            }
-        }
-        if !positive(self.map.cell_size) {
-            return bad(format!(
-                "[map] cell_size must be positive, found {}",
-                self.map.cell_size
-            ));
-        }
-        if !positive(self.time_limit_s) {
-            return bad(format!(
-                "time_limit_s must be positive, found {}",
-                self.time_limit_s
-            ));
-        }
-        let s = self.start.position();
-        if !(s.is_finite() && self.start.yaw.is_finite() && w.contains(s)) {
-            return bad(format!("[start] {}", outside(w, s)));
-        }
-        let b = self.bounds;
-        if !(b.min.is_finite() && b.max.is_finite() && b.min.x < b.max.x && b.min.y < b.max.y) {
-            return bad(format!(
-                "[bounds] min ({}, {}) must lie below and left of max ({}, {})",
-                b.min.x, b.min.y, b.max.x, b.max.y
-            ));
-        }
-        for t in &self.tours {
-            if t.waypoints.is_empty() {
-                return bad(format!("[[tours]] '{}' has no waypoints", t.name));
-            }
-            for (k, p) in t.waypoints.iter().enumerate() {
-                if !p.is_finite() || !w.contains(*p) {
-                    return bad(format!(
-                        "[[tours]] '{}' waypoint {}: {}",
-                        t.name,
-                        k + 1,
-                        outside(w, *p)
-                    ));
-                }
-            }
-        }
-        Ok(())
-    }
-
     /// Loads a scenario from its TOML file, or from a directory holding `scenario.toml`.
     /// Layer paths are relative to the TOML file. Never panics on bad input: every problem is a
     /// one-line [`ScenarioError`] naming the file.
@@ -389,9 +279,23 @@ impl Scenario {
                 }
             }
         })?;
-        let doc: FileDoc = toml::from_str(&text).map_err(|e| toml_error(&file, &text, &e))?;
         let dir = file.parent().unwrap_or(Path::new("."));
-        doc.into_scenario(&file, dir)
+        Self::from_toml_str(&text, &file, &LayerDir(dir.to_path_buf()))
+    }
+
+    /// Parses scenario TOML `text` and decodes the PNG layers it names from `layers` (files
+    /// with [`LayerDir`], or a `BTreeMap<String, Vec<u8>>` of PNG bytes keyed by the names the
+    /// TOML uses, which needs no filesystem). `file` names the scenario in error messages.
+    /// Validates the result ([`Scenario::validate`]). Never panics and allocates nothing beyond
+    /// the documented limits ([`crate::validate`]) on bad input: every problem is a one-line
+    /// [`ScenarioError`].
+    pub fn from_toml_str(
+        text: &str,
+        file: &Path,
+        layers: &dyn LayerSource,
+    ) -> Result<Scenario, ScenarioError> {
+        let doc: FileDoc = toml::from_str(text).map_err(|e| toml_error(file, text, &e))?;
+        doc.into_scenario(file, layers)
     }
 
     /// Writes the scenario into directory `dir` (created if needed) as `scenario.toml` plus
@@ -409,15 +313,6 @@ impl Scenario {
         let w = &self.world;
         let (width, height) = (w.width(), w.height());
         let enc = self.elevation_encoding;
-        if !(positive(enc.scale) && enc.offset.is_finite()) {
-            return Err(ScenarioError::invalid(
-                &file,
-                format!(
-                    "elevation encoding scale must be positive and offset finite, found scale {} offset {}",
-                    enc.scale, enc.offset
-                ),
-            ));
-        }
         // Image order: top row = highest y.
         let image_rows = (0..height).rev();
         let mut color = Vec::with_capacity(w.rect.len());
@@ -491,15 +386,21 @@ impl Scenario {
 }
 
 impl FileDoc {
-    fn into_scenario(self, file: &Path, dir: &Path) -> Result<Scenario, ScenarioError> {
+    fn into_scenario(
+        self,
+        file: &Path,
+        layers: &dyn LayerSource,
+    ) -> Result<Scenario, ScenarioError> {
         let bad = |m: String| ScenarioError::invalid(file, m);
+        let param = |source| ScenarioError::Param {
+            path: file.to_path_buf(),
+            source,
+        };
         let ws = &self.world;
         let res = ws.resolution;
-        if !positive(res) {
-            return Err(bad(format!(
-                "[world] resolution must be a positive number of metres, found {res}"
-            )));
-        }
+        WORLD_RESOLUTION
+            .check("world.resolution", res)
+            .map_err(param)?;
         let mut min_cell = [0i32; 2];
         for (a, &o) in ws.origin.iter().enumerate() {
             let q = o / res;
@@ -515,24 +416,27 @@ impl FileDoc {
             scale: ws.elevation.scale,
             offset: ws.elevation.offset,
         };
-        if !positive(enc.scale) || !enc.offset.is_finite() {
-            return Err(bad(format!(
-                "[world] elevation scale must be positive and offset finite, found scale {} offset {}",
-                enc.scale, enc.offset
-            )));
-        }
+        enc.validate().map_err(param)?;
         if self.terrains.is_empty() {
             return Err(bad("no [[terrain]] entries".into()));
         }
         let robot = resolve_robot(file, self.robot)?;
 
         // Layers, in image order, then flipped to row 0 = lowest y.
-        let color_path = dir.join(&ws.color);
-        let elev_path = dir.join(&ws.elevation.file);
-        let terr_path = dir.join(&ws.terrain);
-        let color = png_io::read_rgb8(&color_path, "colour layer named in [world] color")?;
-        let elev = png_io::read_gray16(&elev_path, "elevation layer named in [world] elevation")?;
-        let terr = png_io::read_index8(&terr_path, "terrain layer named in [world] terrain")?;
+        let color_path = layers.path(&ws.color);
+        let elev_path = layers.path(&ws.elevation.file);
+        let terr_path = layers.path(&ws.terrain);
+        let color = png_io::read_rgb8(layers, &ws.color, "colour layer named in [world] color")?;
+        let elev = png_io::read_gray16(
+            layers,
+            &ws.elevation.file,
+            "elevation layer named in [world] elevation",
+        )?;
+        let terr = png_io::read_index8(
+            layers,
+            &ws.terrain,
+            "terrain layer named in [world] terrain",
+        )?;
         for (p, w, h) in [
             (&elev_path, elev.width, elev.height),
             (&terr_path, terr.width, terr.height),

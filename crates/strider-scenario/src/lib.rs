@@ -7,11 +7,14 @@
 //! bounds and benchmark tours.
 //!
 //! * [`model`]: the in-memory data model.
-//! * [`format`](mod@format): the file format (TOML naming PNG layers), [`Scenario::load`] and
-//!   [`Scenario::save`].
+//! * [`format`](mod@format): the file format (TOML naming PNG layers), [`Scenario::load`],
+//!   [`Scenario::from_toml_str`] and [`Scenario::save`].
 //! * [`profiles`]: the built-in robot profiles.
 //! * [`builtin`]: the procedurally generated built-in worlds (and `cot-track`, Prágr18)
 //!   and their registry.
+//! * [`layers`]: where the PNG layers come from (files or memory).
+//! * [`validate`](mod@validate): the checks of every part of a scenario and the documented
+//!   limits they enforce.
 //! * [`ground_truth`]: flood fill and nearest-cell queries over ground-truth admissibility
 //!   ([`World::gt_admissible`] applies `strider_map`'s passability rule to the true elevation).
 //!
@@ -22,11 +25,14 @@ pub mod builtin;
 pub mod error;
 pub mod format;
 pub mod ground_truth;
+pub mod layers;
 pub mod model;
 mod png_io;
 pub mod profiles;
+pub mod validate;
 
 pub use error::ScenarioError;
+pub use layers::{LayerDir, LayerSource};
 pub use model::*;
 
 impl Scenario {

@@ -5,12 +5,14 @@
 //! is the scenario loader's business, not this module's.
 
 use std::fs::File;
-use std::io::{BufReader, BufWriter};
-use std::path::Path;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
 
 use png::{BitDepth, ColorType};
 
 use crate::error::ScenarioError;
+use crate::layers::LayerSource;
+use crate::validate::check_world_size;
 
 /// A decoded image: size and one sample per pixel (or three for RGB), top row first.
 pub(crate) struct Image<T> {
@@ -46,40 +48,61 @@ struct Raw {
     depth: BitDepth,
     line_size: usize,
     buf: Vec<u8>,
+    /// Where the layer came from, for messages.
+    path: PathBuf,
 }
 
-fn read_raw(path: &Path, what: &str) -> Result<Raw, ScenarioError> {
-    let file = File::open(path).map_err(|e| {
+/// Bytes the PNG decoder may allocate besides the image itself (its row buffers, the
+/// decompressor's window and ancillary chunks such as ICC profiles): far above what a layer of
+/// [`crate::validate::MAX_WORLD_CELLS`] pixels needs, far below the machine's memory.
+const DECODER_LIMIT_BYTES: usize = 64 << 20;
+
+/// Decodes layer `name` of `src`, refusing before any allocation an image whose header claims
+/// more than [`crate::validate::MAX_WORLD_CELLS`] pixels.
+fn read_raw(src: &dyn LayerSource, name: &str, what: &str) -> Result<Raw, ScenarioError> {
+    let path = src.path(name);
+    let file = src.open(name).map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
             ScenarioError::MissingFile {
-                path: path.to_path_buf(),
+                path: path.clone(),
                 what: what.to_string(),
             }
         } else {
             ScenarioError::Read {
-                path: path.to_path_buf(),
+                path: path.clone(),
                 source: e,
             }
         }
     })?;
     let png_err = |e: png::DecodingError| ScenarioError::Png {
-        path: path.to_path_buf(),
+        path: path.clone(),
         message: e.to_string(),
     };
-    let mut decoder = png::Decoder::new(BufReader::new(file));
+    let mut decoder = png::Decoder::new_with_limits(
+        file,
+        png::Limits {
+            bytes: DECODER_LIMIT_BYTES,
+        },
+    );
     decoder.set_transformations(png::Transformations::IDENTITY);
     let mut reader = decoder.read_info().map_err(png_err)?;
-    let size = reader
-        .output_buffer_size()
-        .ok_or_else(|| ScenarioError::Png {
-            path: path.to_path_buf(),
-            message: "image too large".into(),
-        })?;
-    let mut buf = vec![0u8; size];
+    let (width, height) = (reader.info().width, reader.info().height);
+    check_world_size(width, height).map_err(|source| ScenarioError::Param {
+        path: path.clone(),
+        source,
+    })?;
+    let too_large = || ScenarioError::Png {
+        path: path.clone(),
+        message: "image too large".into(),
+    };
+    let size = reader.output_buffer_size().ok_or_else(too_large)?;
+    let mut buf = Vec::new();
+    buf.try_reserve_exact(size).map_err(|_| too_large())?;
+    buf.resize(size, 0);
     let info = reader.next_frame(&mut buf).map_err(png_err)?;
     if info.width == 0 || info.height == 0 {
         return Err(ScenarioError::Png {
-            path: path.to_path_buf(),
+            path: path.clone(),
             message: "empty image".into(),
         });
     }
@@ -90,22 +113,27 @@ fn read_raw(path: &Path, what: &str) -> Result<Raw, ScenarioError> {
         depth: info.bit_depth,
         line_size: info.line_size,
         buf,
+        path,
     })
 }
 
-fn wrong(path: &Path, expected: &str, raw: &Raw) -> ScenarioError {
+fn wrong(expected: &str, raw: &Raw) -> ScenarioError {
     ScenarioError::PngFormat {
-        path: path.to_path_buf(),
+        path: raw.path.clone(),
         expected: expected.to_string(),
         found: describe(raw.color, raw.depth),
     }
 }
 
 /// Reads an 8-bit RGB image (the colour layer).
-pub(crate) fn read_rgb8(path: &Path, what: &str) -> Result<Image<[u8; 3]>, ScenarioError> {
-    let raw = read_raw(path, what)?;
+pub(crate) fn read_rgb8(
+    src: &dyn LayerSource,
+    name: &str,
+    what: &str,
+) -> Result<Image<[u8; 3]>, ScenarioError> {
+    let raw = read_raw(src, name, what)?;
     if raw.color != ColorType::Rgb || raw.depth != BitDepth::Eight {
-        return Err(wrong(path, "8-bit RGB", &raw));
+        return Err(wrong("8-bit RGB", &raw));
     }
     let (w, h) = (raw.width as usize, raw.height as usize);
     let mut data = Vec::with_capacity(w * h);
@@ -121,10 +149,14 @@ pub(crate) fn read_rgb8(path: &Path, what: &str) -> Result<Image<[u8; 3]>, Scena
 }
 
 /// Reads a 16-bit grayscale image (the elevation layer).
-pub(crate) fn read_gray16(path: &Path, what: &str) -> Result<Image<u16>, ScenarioError> {
-    let raw = read_raw(path, what)?;
+pub(crate) fn read_gray16(
+    src: &dyn LayerSource,
+    name: &str,
+    what: &str,
+) -> Result<Image<u16>, ScenarioError> {
+    let raw = read_raw(src, name, what)?;
     if raw.color != ColorType::Grayscale || raw.depth != BitDepth::Sixteen {
-        return Err(wrong(path, "16-bit grayscale", &raw));
+        return Err(wrong("16-bit grayscale", &raw));
     }
     let (w, h) = (raw.width as usize, raw.height as usize);
     let mut data = Vec::with_capacity(w * h);
@@ -145,15 +177,19 @@ pub(crate) fn read_gray16(path: &Path, what: &str) -> Result<Image<u16>, Scenari
 /// Reads an index image (the terrain layer): 8-bit grayscale (the sample is the index) or
 /// indexed/palette of 1, 2, 4 or 8 bits (the palette index is the index; palette colours are
 /// ignored).
-pub(crate) fn read_index8(path: &Path, what: &str) -> Result<Image<u8>, ScenarioError> {
-    let raw = read_raw(path, what)?;
+pub(crate) fn read_index8(
+    src: &dyn LayerSource,
+    name: &str,
+    what: &str,
+) -> Result<Image<u8>, ScenarioError> {
+    let raw = read_raw(src, name, what)?;
     let bits: usize = match (raw.color, raw.depth) {
         (ColorType::Grayscale, BitDepth::Eight) => 8,
         (ColorType::Indexed, BitDepth::One) => 1,
         (ColorType::Indexed, BitDepth::Two) => 2,
         (ColorType::Indexed, BitDepth::Four) => 4,
         (ColorType::Indexed, BitDepth::Eight) => 8,
-        _ => return Err(wrong(path, "8-bit grayscale or indexed (palette)", &raw)),
+        _ => return Err(wrong("8-bit grayscale or indexed (palette)", &raw)),
     };
     let (w, h) = (raw.width as usize, raw.height as usize);
     let mask = ((1u16 << bits) - 1) as u8;

@@ -85,7 +85,9 @@ enum Target {
 ///
 /// The path starts at the centre of the start cell (or of the nearest admissible cell when the
 /// start is not admissible). A world without admissible cells gives just the start position.
-/// Non-positive or non-finite `lane_spacing` is taken as one cell.
+/// Non-positive or non-finite `lane_spacing` is taken as one cell, and one wider than the
+/// world's diagonal as the diagonal (one lane or point then covers everything within it, and
+/// the coverage disc stays the size of the world).
 pub fn coverage_path(
     world: &World,
     robot: &RobotProfile,
@@ -101,6 +103,8 @@ pub fn coverage_path(
     let grid = Grid { w, h, ok: &adm };
     let comp = grid.component(s);
     let spacing_ok = lane_spacing.is_finite() && lane_spacing > 0.0;
+    let diagonal = (w as f64).hypot(h as f64) * d;
+    let lane_spacing = lane_spacing.min(diagonal);
     let step = if spacing_ok {
         ((lane_spacing / d).round() as usize).max(1)
     } else {

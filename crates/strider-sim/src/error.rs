@@ -31,6 +31,9 @@ pub enum SimError {
         /// What the value must satisfy.
         requirement: &'static str,
     },
+    /// A scenario parameter is outside its documented range.
+    #[error(transparent)]
+    Param(#[from] strider_map::ParamError),
     /// A world layer does not have one entry per cell.
     #[error("world layer `{layer}` has {len} entries, expected {expected} (one per cell)")]
     LayerSize {
@@ -62,44 +65,4 @@ pub(crate) fn check(
             requirement,
         })
     }
-}
-
-/// A requirement on a parameter value: the test (applied to finite values) and how an error
-/// message states it.
-#[derive(Clone, Copy)]
-pub(crate) struct Rule {
-    pub ok: fn(f64) -> bool,
-    pub requirement: &'static str,
-}
-
-/// Any finite value.
-pub(crate) const FINITE: Rule = Rule {
-    ok: |_| true,
-    requirement: "must be finite",
-};
-
-/// A value > 0.
-pub(crate) const POSITIVE: Rule = Rule {
-    ok: |v| v > 0.0,
-    requirement: "must be positive",
-};
-
-/// A value ≥ 0.
-pub(crate) const NON_NEGATIVE: Rule = Rule {
-    ok: |v| v >= 0.0,
-    requirement: "must be non-negative",
-};
-
-/// Checks each `(field, value, rule)` in turn, naming the field `{prefix}.{field}` in the error
-/// of the first that fails.
-pub(crate) fn check_fields(prefix: &str, fields: &[(&str, f64, Rule)]) -> Result<(), SimError> {
-    for &(field, value, rule) in fields {
-        check(
-            format!("{prefix}.{field}"),
-            value,
-            rule.ok,
-            rule.requirement,
-        )?;
-    }
-    Ok(())
 }

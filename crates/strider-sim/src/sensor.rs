@@ -24,7 +24,7 @@ use rayon::prelude::*;
 use strider_core::{ColoredPoint, Point3, PointCloud, Pose2, Rgb8};
 use strider_scenario::{SensorKind, SensorSpec, SimParams};
 
-use crate::error::{FINITE, POSITIVE, Rule, SimError, check, check_fields};
+use crate::error::SimError;
 use crate::heightfield::Heightfield;
 use crate::seed::{key, stream};
 
@@ -80,17 +80,10 @@ pub struct RangeSensor {
 }
 
 impl RangeSensor {
-    /// Builds the sensor of `spec`; `name` (e.g. `robot.sensors[0]`) prefixes error messages.
+    /// Builds the sensor of `spec` after checking it ([`SensorSpec::validate`], which bounds
+    /// the number of rays); `name` (e.g. `robot.sensors[0]`) prefixes error messages.
     pub fn new(spec: &SensorSpec, name: &str) -> Result<Self, SimError> {
-        check_fields(
-            name,
-            &[
-                ("range", spec.range, POSITIVE),
-                ("height", spec.height, FINITE),
-                ("yaw_deg", spec.yaw_deg, FINITE),
-                ("rate_hz", spec.rate_hz, POSITIVE),
-            ],
-        )?;
+        spec.validate(name)?;
         let yaw = spec.yaw_deg.to_radians();
         let dirs = match spec.kind {
             SensorKind::RgbD {
@@ -99,41 +92,13 @@ impl RangeSensor {
                 width,
                 height,
                 tilt_deg,
-            } => {
-                check_fields(
-                    name,
-                    &[
-                        ("hfov_deg", hfov_deg, FIELD_OF_VIEW),
-                        ("vfov_deg", vfov_deg, FIELD_OF_VIEW),
-                        ("tilt_deg", tilt_deg, WITHIN_90),
-                        ("width", width as f64, AT_LEAST_ONE),
-                        ("height", height as f64, AT_LEAST_ONE),
-                    ],
-                )?;
-                pinhole_rays(hfov_deg, vfov_deg, (width, height), tilt_deg, yaw)
-            }
+            } => pinhole_rays(hfov_deg, vfov_deg, (width, height), tilt_deg, yaw),
             SensorKind::Omni {
                 min_elevation_deg,
                 max_elevation_deg,
                 columns,
                 rows,
-            } => {
-                check_fields(name, &[("min_elevation_deg", min_elevation_deg, WITHIN_90)])?;
-                check(
-                    format!("{name}.max_elevation_deg"),
-                    max_elevation_deg,
-                    |v| (WITHIN_90.ok)(v) && v >= min_elevation_deg,
-                    "must be within ±90 and ≥ min_elevation_deg",
-                )?;
-                check_fields(
-                    name,
-                    &[
-                        ("columns", columns as f64, AT_LEAST_ONE),
-                        ("rows", rows as f64, AT_LEAST_ONE),
-                    ],
-                )?;
-                omni_rays((min_elevation_deg, max_elevation_deg), columns, rows, yaw)
-            }
+            } => omni_rays((min_elevation_deg, max_elevation_deg), columns, rows, yaw),
         };
         Ok(Self {
             spec: spec.clone(),
@@ -251,24 +216,6 @@ impl RangeSensor {
         }
     }
 }
-
-/// An angle of view in (0°, 180°).
-const FIELD_OF_VIEW: Rule = Rule {
-    ok: |v| v > 0.0 && v < 180.0,
-    requirement: "must be in (0, 180)",
-};
-
-/// An angle within ±90°.
-const WITHIN_90: Rule = Rule {
-    ok: |v| v.abs() <= 90.0,
-    requirement: "must be within ±90",
-};
-
-/// A count of pixels, columns or rows.
-const AT_LEAST_ONE: Rule = Rule {
-    ok: |v| v >= 1.0,
-    requirement: "must be ≥ 1",
-};
 
 /// The rays of a pinhole camera, body frame: one through the centre of each pixel of a
 /// `width × height` image (row 0 at the top, column 0 at the left) spanning `hfov × vfov`,

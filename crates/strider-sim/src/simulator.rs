@@ -17,9 +17,10 @@ use rand_distr::StandardNormal;
 use strider_core::geom::wrap_angle;
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{GaitId, Point2, Point3, PointCloud, Pose2, PoseStamped};
-use strider_scenario::{RobotProfile, Scenario, SimParams, TerrainType, World};
+use strider_scenario::validate::{WORLD_RESOLUTION, check_world_size};
+use strider_scenario::{RobotProfile, Scenario, SimParams, World};
 
-use crate::error::{NON_NEGATIVE, POSITIVE, SimError, check, check_fields};
+use crate::error::{SimError, check};
 use crate::heightfield::Heightfield;
 use crate::motion::{MotionContext, MotionModel, MotionParams, StepReport};
 use crate::proprio::{ProprioModel, ProprioParams};
@@ -345,7 +346,9 @@ impl Robot for Simulator {
     }
 }
 
-/// Checks a scenario before simulating it.
+/// Checks a scenario before simulating it: each part against its documented ranges (the
+/// scenario's own checks; a scenario built in code has not passed [`Scenario::validate`]), one
+/// entry per cell in every layer, and the start on the world.
 fn validate(s: &Scenario) -> Result<(), SimError> {
     if s.robot.gaits.is_empty() {
         return Err(SimError::NoGait {
@@ -353,10 +356,10 @@ fn validate(s: &Scenario) -> Result<(), SimError> {
         });
     }
     validate_layers(&s.world)?;
-    validate_robot(&s.robot)?;
-    validate_sim(&s.sim)?;
+    s.robot.validate()?;
+    s.sim.validate()?;
     for t in &s.world.terrains {
-        validate_terrain(t)?;
+        t.validate()?;
     }
     let st = s.start;
     check("start.yaw", st.yaw, |_| true, "must be finite")?;
@@ -371,14 +374,11 @@ fn validate(s: &Scenario) -> Result<(), SimError> {
     Ok(())
 }
 
-/// A positive cell size and one entry per cell in every layer.
+/// A resolution within its range, a world within the cell limit and one entry per cell in
+/// every layer.
 fn validate_layers(w: &World) -> Result<(), SimError> {
-    check(
-        "world.resolution",
-        w.resolution,
-        |v| v > 0.0,
-        "must be a positive cell size",
-    )?;
+    WORLD_RESOLUTION.check("world.resolution", w.resolution)?;
+    check_world_size(w.rect.width, w.rect.height)?;
     for (layer, len) in [
         ("elevation", w.elevation.len()),
         ("color", w.color.len()),
@@ -391,61 +391,6 @@ fn validate_layers(w: &World) -> Result<(), SimError> {
                 expected: w.rect.len(),
             });
         }
-    }
-    Ok(())
-}
-
-fn validate_robot(r: &RobotProfile) -> Result<(), SimError> {
-    for (i, g) in r.gaits.iter().enumerate() {
-        check_fields(
-            &format!("robot.gaits[{i}]"),
-            &[("max_speed", g.max_speed, NON_NEGATIVE)],
-        )?;
-    }
-    check_fields(
-        "robot",
-        &[
-            ("footprint_radius", r.footprint_radius, NON_NEGATIVE),
-            ("max_step_m", r.max_step_m, NON_NEGATIVE),
-            ("turn_rate", r.turn_rate, POSITIVE),
-            ("hotel_load_w", r.hotel_load_w, NON_NEGATIVE),
-        ],
-    )
-}
-
-fn validate_sim(p: &SimParams) -> Result<(), SimError> {
-    check_fields(
-        "sim",
-        &[
-            ("depth_sigma", p.depth_sigma, NON_NEGATIVE),
-            ("depth_k", p.depth_k, NON_NEGATIVE),
-            ("color_sigma", p.color_sigma, NON_NEGATIVE),
-            ("pose_rate_hz", p.pose_rate_hz, POSITIVE),
-            ("pose_sigma_xy", p.pose_sigma_xy, NON_NEGATIVE),
-            ("pose_sigma_yaw", p.pose_sigma_yaw, NON_NEGATIVE),
-            ("speed_noise", p.speed_noise, NON_NEGATIVE),
-            ("proprio_rate_hz", p.proprio_rate_hz, POSITIVE),
-            ("proprio_noise", p.proprio_noise, NON_NEGATIVE),
-            ("dt", p.dt, POSITIVE),
-        ],
-    )
-}
-
-fn validate_terrain(t: &TerrainType) -> Result<(), SimError> {
-    let prefix = format!("world.terrains[{}]", t.name);
-    check_fields(&prefix, &[("vibration", t.vibration, NON_NEGATIVE)])?;
-    if let Some(f) = t.push_force_n {
-        check_fields(&prefix, &[("push_force_n", f, NON_NEGATIVE)])?;
-    }
-    for (g, resp) in &t.gaits {
-        check_fields(
-            &format!("{prefix}.gaits.{g}"),
-            &[
-                ("speed_factor", resp.speed_factor, NON_NEGATIVE),
-                ("roll_variance", resp.roll_variance, NON_NEGATIVE),
-                ("power_w", resp.power_w, NON_NEGATIVE),
-            ],
-        )?;
     }
     Ok(())
 }

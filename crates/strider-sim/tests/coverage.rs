@@ -148,3 +148,20 @@ fn visibility_respects_walls_range_and_fov() {
     let both = visible_cells(&far, &cam, &[pose, back]);
     assert!(at(&both, 3.0, 2.05) && at(&both, 1.0, 2.05));
 }
+
+/// A lane spacing far wider than the world (or not a number) still gives a bounded path over
+/// the reachable area.
+#[test]
+fn any_lane_spacing_gives_a_bounded_path() {
+    let world = rooms();
+    let robot = robot(Vec::new());
+    let start = Pose2::new(0.53, 0.57, 0.0);
+    let wide = coverage_path(&world, &robot, start, 1e9);
+    let diagonal = coverage_path(&world, &robot, start, 6.0_f64.hypot(5.0));
+    assert_eq!(wide, diagonal);
+    assert!(!wide.is_empty() && wide.len() < 100, "{}", wide.len());
+    for spacing in [f64::NAN, f64::INFINITY, -1.0, 0.0, 1e-9, 1e300] {
+        let p = coverage_path(&world, &robot, start, spacing);
+        assert!(!p.is_empty(), "{spacing}");
+    }
+}

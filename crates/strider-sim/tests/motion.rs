@@ -323,8 +323,68 @@ fn invalid_scenarios_are_refused() {
     s.sim.dt = f64::NAN;
     let e = Simulator::new(&s, 0).unwrap_err();
     assert!(e.to_string().contains("sim.dt"), "{e}");
-    let mut s = sc(world, noiseless(), Pose2::new(0.5, 0.5, 0.0));
+    let mut s = sc(world.clone(), noiseless(), Pose2::new(0.5, 0.5, 0.0));
     s.robot.sensors = vec![rgbd(0, 10, 2.0)];
     let e = Simulator::new(&s, 0).unwrap_err();
-    assert!(e.to_string().contains("robot.sensors[0].width"), "{e}");
+    assert!(
+        e.to_string().contains("robot.sensors[0].width_px = 0"),
+        "{e}"
+    );
+    let mut s = sc(world, noiseless(), Pose2::new(0.5, 0.5, f64::NAN));
+    let e = Simulator::new(&s, 0).unwrap_err();
+    assert!(e.to_string().contains("start.yaw"), "{e}");
+    s.start.yaw = 0.0;
+    Simulator::new(&s, 0).unwrap();
+}
+
+/// Each value that would hang the event loop or allocate without bound is refused with its
+/// key, value and range.
+#[test]
+fn rates_steps_and_sensor_sizes_are_bounded() {
+    let base = || {
+        sc(
+            flat_world(20, 20, 0.05),
+            noiseless(),
+            Pose2::new(0.5, 0.5, 0.0),
+        )
+    };
+    let refused = |s: Scenario, expected: &str| {
+        let e = Simulator::new(&s, 0).unwrap_err().to_string();
+        assert!(e.starts_with(expected), "{e}");
+    };
+    let mut s = base();
+    s.sim.dt = 1e-9;
+    refused(s, "sim.dt = 1e-9: must be a finite number in [0.001, 1] s");
+    let mut s = base();
+    s.sim.pose_rate_hz = 1e9;
+    refused(
+        s,
+        "sim.pose_rate_hz = 1e9: must be a finite number in [0.1, 1000] Hz",
+    );
+    let mut s = base();
+    s.robot.sensors = vec![rgbd(160, 120, 2.5)];
+    s.robot.sensors[0].rate_hz = 1e9;
+    refused(s, "robot.sensors[0].rate_hz = 1e9: must be");
+    let mut s = base();
+    s.robot.sensors = vec![rgbd(100_000, 10_000, 2.5)];
+    refused(
+        s,
+        "robot.sensors[0].width_px × height_px = 100000 × 10000 = 1000000000 rays: must be at most 1048576 rays",
+    );
+    let mut s = base();
+    s.robot.sensors = vec![omni(720, 48, 1e12)];
+    refused(
+        s,
+        "robot.sensors[0].range = 1e12: must be a finite number in (0, 1000] m",
+    );
+    let mut s = base();
+    s.robot.sensors = vec![rgbd(160, 120, 2.5)];
+    s.robot.sensors[0].height = -0.3;
+    refused(s, "robot.sensors[0].height = -0.3: must be");
+    let mut s = base();
+    s.robot.footprint_radius = 1e9;
+    refused(s, "robot.footprint_radius = 1e9: must be");
+    let mut s = base();
+    s.robot.gaits[1].max_speed = f64::INFINITY;
+    refused(s, "robot.gaits[1].max_speed = inf: must be");
 }

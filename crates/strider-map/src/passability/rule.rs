@@ -107,12 +107,15 @@ pub fn dense_admissible(
 }
 
 /// Largest cell offset of the disc of radius `r` (cell size `d`), as used by [`disc_offsets`].
-/// Computed without building the disc: it is ⌊r/d⌋, the offset (⌊r/d⌋, 0) always being inside,
-/// and 0 for the parameters [`disc_offsets`] rejects (its disc is then the centre alone). Called
-/// per information-gain update with r_sensor, whose disc has thousands of cells.
+/// Computed without building the disc: it is ⌊r/d⌋ (capped like the disc), the offset
+/// (⌊r/d⌋, 0) always being inside, and 0 for the parameters [`disc_offsets`] rejects (its disc
+/// is then the centre alone). Called per information-gain update with r_sensor, whose disc has
+/// thousands of cells.
 pub(crate) fn disc_reach(r: f64, d: f64) -> u32 {
     if !(r.is_finite() && d.is_finite() && d > 0.0 && r >= 0.0) {
         return 0;
     }
-    (r / d).floor() as u32
+    (r / d)
+        .min(strider_core::grid::MAX_DISC_RADIUS_CELLS as f64)
+        .floor() as u32
 }
