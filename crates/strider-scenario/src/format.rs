@@ -204,13 +204,14 @@ fn line_col(text: &str, at: usize) -> (usize, usize) {
 
 fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> ScenarioError {
     let (line, column) = e.span().map_or((1, 1), |s| line_col(text, s.start));
-    let message = e
-        .message()
-        .lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty())
-        .collect::<Vec<_>>()
-        .join("; ");
+    let message = strider_core::text::one_line(
+        &e.message()
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .collect::<Vec<_>>()
+            .join("; "),
+    );
     ScenarioError::Toml {
         path: path.to_path_buf(),
         line,
