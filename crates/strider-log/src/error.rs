@@ -108,18 +108,32 @@ impl LogError {
 /// which are reduced to the innermost cause.
 pub fn mcap_reason(e: &mcap::McapError, offset: u64) -> String {
     use mcap::McapError as E;
-    let cut_short = "the file ends in the middle of a record: a recording cut short can be \
-                     repaired with the mcap CLI's `mcap recover`";
     match e {
         E::BadMagic if offset <= 8 => {
             "not an MCAP file: it does not begin with the MCAP magic bytes".into()
         }
         E::UnexpectedEof if offset == 0 => "the file is empty, not an MCAP file".into(),
-        E::UnexpectedEof => cut_short.into(),
-        E::Parse(p) if p.is_eof() => cut_short.into(),
+        E::UnexpectedEof => "the file ends in the middle of a record (it was cut short, or a \
+                             record's length is corrupt; a recording cut short can be repaired \
+                             with the mcap CLI's `mcap recover`)"
+            .into(),
+        // The reader holds the whole record: a field running past its end is corruption.
+        E::Parse(p) if p.is_eof() => {
+            "corrupt MCAP: a record's fields run past its end (a length inside it is wrong)".into()
+        }
         E::Parse(p) => format!(
             "corrupt MCAP: a record could not be parsed ({})",
             plain(&p.root_cause().to_string())
+        ),
+        E::RecordTooLarge { opcode, len } => format!(
+            "corrupt MCAP: a record (opcode {opcode:#04x}) claims {len} bytes, more than the \
+             {} MiB a record may have",
+            crate::replay::MAX_RECORD_BYTES >> 20
+        ),
+        E::ChunkTooLarge(len) => format!(
+            "corrupt MCAP: a chunk claims {len} bytes uncompressed, more than the {} MiB a \
+             chunk may have",
+            crate::replay::MAX_RECORD_BYTES >> 20
         ),
         E::Io(io) => format!("cannot read: {}", plain(&io.to_string())),
         e => format!("corrupt MCAP: {}", plain(&e.to_string())),
