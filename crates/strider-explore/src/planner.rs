@@ -402,7 +402,12 @@ impl TourInstance {
             .map(|(a, b)| self.cost(a, b))
             .filter(|c| c.is_finite())
             .fold(0.0, f64::max);
-        let big = ((finite_max * 1000.0).ceil() as i64 + 1) * n as i64;
+        // A tour sums n + 1 edges of at most 2·big: capped so that the sum stays an i64.
+        let cap = i64::MAX / 4 / (n as i64 + 1);
+        let big = ((finite_max * 1000.0).ceil() as i64)
+            .saturating_add(1)
+            .saturating_mul(n as i64)
+            .min(cap);
         let mut in_first = vec![false; n];
         if let Some(f) = first {
             for &v in &self.sets[f] {
@@ -421,7 +426,7 @@ impl TourInstance {
                     0
                 };
                 if c.is_finite() {
-                    (c * 1000.0).round() as i64 + detour
+                    ((c * 1000.0).round() as i64).min(cap) + detour
                 } else {
                     big + detour
                 }

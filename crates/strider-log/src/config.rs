@@ -53,7 +53,8 @@
 //! Topics in the log that are not named here are ignored. The pose topic and every cloud
 //! topic must have messages; the gait, motion and tf topics are used when present.
 
-use crate::error::LogError;
+use crate::error::{LogError, plain};
+use crate::replay::MAX_SPAN_S;
 use crate::ros2::MissingRgb;
 use serde::Deserialize;
 use std::path::Path;
@@ -231,11 +232,18 @@ fn gtsp() -> String {
     "gtsp".into()
 }
 
+/// Longest reorder window, s: clouds further out of stamp order than ten minutes mean a broken
+/// clock, and the clouds within the window are held in memory.
+pub const MAX_REORDER_WINDOW_S: f64 = 600.0;
+
+/// Fastest gait speed accepted, m/s: faster is no walking or driving robot, and a typo.
+pub const MAX_GAIT_SPEED: f64 = 100.0;
+
 impl ReplayConfig {
-    /// Parses a configuration.
+    /// Parses and checks a configuration; any text gives a configuration or an error, never a
+    /// panic.
     pub fn parse(text: &str) -> Result<Self, LogError> {
-        let c: ReplayConfig =
-            toml::from_str(text).map_err(|e| LogError::Config(e.to_string().replace('\n', " ")))?;
+        let c: ReplayConfig = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
         c.validate()?;
         Ok(c)
     }
@@ -249,7 +257,30 @@ impl ReplayConfig {
         })
     }
 
+    /// Checks every value against its range, once, where the configuration enters.
     fn validate(&self) -> Result<(), LogError> {
+        let bad = |m: String| Err(LogError::Config(m));
+        if self.world_frame.is_empty() {
+            return bad("world_frame is empty: name the fixed frame the map is built in".into());
+        }
+        if !(0.0..=MAX_REORDER_WINDOW_S).contains(&self.reorder_window_s) {
+            return bad(format!(
+                "reorder_window_s = {}: must be a finite number ≥ 0 s and ≤ {MAX_REORDER_WINDOW_S} s",
+                self.reorder_window_s
+            ));
+        }
+        if !(0.0..=MAX_SPAN_S).contains(&self.tf.tolerance_s) {
+            return bad(format!(
+                "[tf] tolerance_s = {}: must be a finite number ≥ 0 s and ≤ {MAX_SPAN_S} s",
+                self.tf.tolerance_s
+            ));
+        }
+        self.validate_topics()?;
+        self.mission.validate(self.clouds.len())
+    }
+
+    /// Checks the topics and frames.
+    fn validate_topics(&self) -> Result<(), LogError> {
         let bad = |m: String| Err(LogError::Config(m));
         if self.clouds.is_empty() {
             return bad("no [[clouds]] topic: the map needs point clouds".into());
@@ -257,38 +288,117 @@ impl ReplayConfig {
         if self.clouds.len() > u8::MAX as usize {
             return bad(format!("{} cloud topics: at most 255", self.clouds.len()));
         }
-        if !self.pose.from_tf && self.pose.topic.is_empty() {
+        for (k, c) in self.clouds.iter().enumerate() {
+            if c.topic.is_empty() {
+                return bad(format!("[[clouds]] {k}: the topic is empty"));
+            }
+            if c.origin_frame.as_deref() == Some("") {
+                return bad(format!(
+                    "[[clouds]] {k} ({}): origin_frame is empty; leave it out to use the \
+                     cloud's own frame",
+                    c.topic
+                ));
+            }
+        }
+        if self.pose.from_tf {
+            if self.tf.topic.is_empty() || self.pose.base_frame.is_empty() {
+                return bad("[pose] from_tf = true needs a [tf] topic and a base_frame".into());
+            }
+        } else if self.pose.topic.is_empty() {
             return bad("[pose] needs a topic, or from_tf = true".into());
-        }
-        if !(self.reorder_window_s.is_finite() && self.reorder_window_s >= 0.0) {
-            return bad(format!(
-                "reorder_window_s must be ≥ 0, got {}",
-                self.reorder_window_s
-            ));
-        }
-        if !(self.tf.tolerance_s.is_finite() && self.tf.tolerance_s >= 0.0) {
-            return bad(format!(
-                "[tf] tolerance_s must be ≥ 0, got {}",
-                self.tf.tolerance_s
-            ));
-        }
-        let m = &self.mission;
-        if m.scenario.is_none() && m.gaits.is_empty() {
-            return bad("[mission] needs a scenario or gaits".into());
-        }
-        if m.scenario.is_some()
-            && (!m.gaits.is_empty()
-                || !m.sensor_hfov_deg.is_empty()
-                || m.map.is_some()
-                || m.bounds.is_some())
-        {
-            return bad(
-                "[mission]: give either a scenario or gaits/sensor_hfov_deg/map/bounds, not both"
-                    .into(),
-            );
         }
         Ok(())
     }
+}
+
+impl MissionConfig {
+    /// Checks the robot given here (or that a scenario gives it), for `clouds` cloud topics.
+    fn validate(&self, clouds: usize) -> Result<(), LogError> {
+        let bad = |m: String| Err(LogError::Config(m));
+        if self.scenario.is_some() {
+            if !self.gaits.is_empty()
+                || !self.sensor_hfov_deg.is_empty()
+                || self.map.is_some()
+                || self.bounds.is_some()
+            {
+                return bad(
+                    "[mission]: give either a scenario or gaits/sensor_hfov_deg/map/bounds, not both"
+                        .into(),
+                );
+            }
+            return Ok(());
+        }
+        if self.gaits.is_empty() {
+            return bad("[mission] needs a scenario or gaits".into());
+        }
+        self.validate_gaits()?;
+        if self.sensor_hfov_deg.len() != clouds {
+            return bad(format!(
+                "[mission] sensor_hfov_deg has {} entries for {clouds} [[clouds]] topics: give \
+                 each cloud topic's horizontal field of view, in their order (360 for an \
+                 omnidirectional sensor)",
+                self.sensor_hfov_deg.len()
+            ));
+        }
+        for (k, &f) in self.sensor_hfov_deg.iter().enumerate() {
+            if !(f > 0.0 && f <= 360.0) {
+                return bad(format!(
+                    "[mission] sensor_hfov_deg[{k}] = {f}: must be a finite number > 0° and ≤ 360°"
+                ));
+            }
+        }
+        if let Some([lo, hi]) = self.bounds {
+            let finite = lo.iter().chain(&hi).all(|v| v.is_finite());
+            if !finite || lo[0] >= hi[0] || lo[1] >= hi[1] {
+                return bad(format!(
+                    "[mission] bounds = [{lo:?}, {hi:?}]: must be [[min x, min y], [max x, max y]] \
+                     of finite numbers in m with min < max"
+                ));
+            }
+        }
+        // MapParams::validate — the map parameters' own check (strider-map) goes here:
+        // if let Some(map) = &self.map {
+        //     map.validate().map_err(|e| LogError::Config(format!("[mission.map] {e}")))?;
+        // }
+        Ok(())
+    }
+
+    /// Checks the gaits: named, each once, with a positive speed, at most 255 (a gait message
+    /// carries the index as a byte).
+    fn validate_gaits(&self) -> Result<(), LogError> {
+        let bad = |m: String| Err(LogError::Config(m));
+        if self.gaits.len() > u8::MAX as usize {
+            return bad(format!("[mission] {} gaits: at most 255", self.gaits.len()));
+        }
+        for (k, g) in self.gaits.iter().enumerate() {
+            if g.name.is_empty() {
+                return bad(format!("[mission] gait {k} has no name"));
+            }
+            if self.gaits[..k].iter().any(|h| h.name == g.name) {
+                return bad(format!("[mission] gait {:?} is given twice", g.name));
+            }
+            if !(g.v_max > 0.0 && g.v_max <= MAX_GAIT_SPEED) {
+                return bad(format!(
+                    "[mission] gait {:?} v_max = {}: must be a finite number > 0 m/s and ≤ \
+                     {MAX_GAIT_SPEED} m/s",
+                    g.name, g.v_max
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A TOML error as one line: where in `text`, and what.
+fn toml_error(text: &str, e: &toml::de::Error) -> LogError {
+    let at = e.span().map(|span| {
+        let before = text.get(..span.start).unwrap_or(text);
+        let line = before.matches('\n').count() + 1;
+        let line_start = before.rfind('\n').map_or(0, |k| k + 1);
+        let column = before[line_start..].chars().count() + 1;
+        format!("line {line}, column {column}: ")
+    });
+    LogError::Config(format!("{}{}", at.unwrap_or_default(), plain(e.message())))
 }
 
 #[cfg(test)]
@@ -353,6 +463,118 @@ mod tests {
         ] {
             let e = ReplayConfig::parse(text).unwrap_err().to_string();
             assert!(e.contains(needle), "{text:?}: {e}");
+        }
+    }
+
+    /// A configuration with its own robot: one gait, one cloud topic, `extra` in [mission].
+    fn robot(extra: &str) -> String {
+        format!(
+            "[mission]\ngaits = [{{ name = \"walk\", v_max = 0.3 }}]\nsensor_hfov_deg = [87.0]\n{extra}"
+        )
+    }
+
+    #[test]
+    fn every_numeric_key_is_checked_with_one_line() {
+        assert!(ReplayConfig::parse(&robot("")).is_ok());
+        let two_clouds = "[[clouds]]\ntopic = \"/a\"\n[[clouds]]\ntopic = \"/b\"\n";
+        for (text, needle) in [
+            (
+                robot("").replace("[87.0]", "[87.0, 90.0]"),
+                "sensor_hfov_deg has 2 entries for 1 [[clouds]] topics",
+            ),
+            (
+                format!("{two_clouds}{}", robot("")),
+                "sensor_hfov_deg has 1 entries for 2 [[clouds]] topics",
+            ),
+            (robot("").replace("[87.0]", "[]"), "has 0 entries"),
+            (
+                robot("").replace("[87.0]", "[nan]"),
+                "sensor_hfov_deg[0] = NaN: must be a finite number > 0° and ≤ 360°",
+            ),
+            (
+                robot("").replace("[87.0]", "[0.0]"),
+                "sensor_hfov_deg[0] = 0",
+            ),
+            (
+                robot("").replace("[87.0]", "[400.0]"),
+                "sensor_hfov_deg[0] = 400",
+            ),
+            (
+                robot("").replace("[87.0]", "[-inf]"),
+                "sensor_hfov_deg[0] = -inf",
+            ),
+            (
+                robot("bounds = [[1.0, -1.0], [-1.0, 1.0]]"),
+                "bounds = [[1.0, -1.0], [-1.0, 1.0]]: must be",
+            ),
+            (
+                robot("bounds = [[nan, -1.0], [1.0, 1.0]]"),
+                "bounds = [[NaN",
+            ),
+            (robot("bounds = [[0.0, 0.0], [0.0, 1.0]]"), "min < max"),
+            (
+                robot("").replace("v_max = 0.3", "v_max = -0.3"),
+                "gait \"walk\" v_max = -0.3: must be a finite number > 0 m/s",
+            ),
+            (
+                robot("").replace("v_max = 0.3", "v_max = nan"),
+                "v_max = NaN",
+            ),
+            (robot("").replace("v_max = 0.3", "v_max = 1e9"), "≤ 100 m/s"),
+            (robot("").replace("\"walk\"", "\"\""), "gait 0 has no name"),
+            (
+                robot("").replace(
+                    "{ name = \"walk\", v_max = 0.3 }",
+                    "{ name = \"a\", v_max = 0.3 }, { name = \"a\", v_max = 0.1 }",
+                ),
+                "given twice",
+            ),
+            (
+                format!("reorder_window_s = -1.0\n{}", robot("")),
+                "reorder_window_s = -1: must be a finite number ≥ 0 s and ≤ 600 s",
+            ),
+            (format!("reorder_window_s = nan\n{}", robot("")), "= NaN"),
+            (format!("reorder_window_s = 1e9\n{}", robot("")), "≤ 600 s"),
+            (
+                format!("[tf]\ntolerance_s = inf\n{}", robot("")),
+                "[tf] tolerance_s = inf",
+            ),
+            (
+                format!("world_frame = \"\"\n{}", robot("")),
+                "world_frame is empty",
+            ),
+            (
+                format!("[[clouds]]\ntopic = \"\"\n{}", robot("")),
+                "the topic is empty",
+            ),
+            (
+                format!("[pose]\nfrom_tf = true\nbase_frame = \"\"\n{}", robot("")),
+                "base_frame",
+            ),
+            (
+                format!("reorder_window_s = \"x\"\n{}", robot("")),
+                "line 1, column 20: invalid type",
+            ),
+        ] {
+            let e = ReplayConfig::parse(&text).unwrap_err().to_string();
+            assert!(e.contains(needle), "{text:?}: {e}");
+            assert!(e.starts_with("replay config: ") && !e.contains('\n'), "{e}");
+        }
+    }
+
+    #[test]
+    fn toml_errors_name_the_line_and_column() {
+        let e = ReplayConfig::parse("[mission]\nscenario = \"x\"\nbogus = 1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("replay config: line 3, column 1: unknown field `bogus`"),
+            "{e}"
+        );
+        // Not TOML at all, and a multi-byte character before the error.
+        for text in ["\u{feff}ä = [", "\u{0}", "[[[", "é"] {
+            let e = ReplayConfig::parse(text).unwrap_err().to_string();
+            assert!(e.contains("line 1") && !e.contains('\n'), "{e}");
         }
     }
 }

@@ -15,13 +15,9 @@ pub enum LogError {
         /// The cause.
         source: std::io::Error,
     },
-    /// The MCAP container is truncated or corrupt (bad magic, CRC, record lengths, unknown
-    /// chunk compression, …).
-    #[error(
-        "{}: not a readable MCAP file after {messages} messages (near byte {offset}): {source} \
-         (a recording cut short can be repaired with the mcap CLI's `mcap recover`)",
-        path.display()
-    )]
+    /// The file is not an MCAP file, or its container is truncated or corrupt (bad magic, CRC,
+    /// record lengths, unknown chunk compression, …).
+    #[error("{}: {reason} (near byte {offset}, after {messages} messages)", path.display())]
     Mcap {
         /// The file.
         path: PathBuf,
@@ -29,8 +25,8 @@ pub enum LogError {
         messages: usize,
         /// Bytes of the file read when the fault was found.
         offset: u64,
-        /// The reader's diagnosis.
-        source: mcap::McapError,
+        /// What is wrong, one line of plain text (see [`mcap_reason`]).
+        reason: String,
     },
     /// Writing the MCAP file failed.
     #[error("{}: cannot write MCAP: {source}", path.display())]
@@ -107,6 +103,68 @@ impl LogError {
     }
 }
 
+/// What an MCAP reader's error says about a file, as one line of plain text: the reader's own
+/// diagnosis carries terminal colour codes and a multi-line backtrace of the record parser,
+/// which are reduced to the innermost cause.
+pub fn mcap_reason(e: &mcap::McapError, offset: u64) -> String {
+    use mcap::McapError as E;
+    match e {
+        E::BadMagic if offset <= 8 => {
+            "not an MCAP file: it does not begin with the MCAP magic bytes".into()
+        }
+        E::UnexpectedEof if offset == 0 => "the file is empty, not an MCAP file".into(),
+        E::UnexpectedEof => "the file ends in the middle of a record (it was cut short, or a \
+                             record's length is corrupt; a recording cut short can be repaired \
+                             with the mcap CLI's `mcap recover`)"
+            .into(),
+        // The reader holds the whole record: a field running past its end is corruption.
+        E::Parse(p) if p.is_eof() => {
+            "corrupt MCAP: a record's fields run past its end (a length inside it is wrong)".into()
+        }
+        E::Parse(p) => format!(
+            "corrupt MCAP: a record could not be parsed ({})",
+            plain(&p.root_cause().to_string())
+        ),
+        E::RecordTooLarge { opcode, len } => format!(
+            "corrupt MCAP: a record (opcode {opcode:#04x}) claims {len} bytes, more than the \
+             {} MiB a record may have",
+            crate::replay::MAX_RECORD_BYTES >> 20
+        ),
+        E::ChunkTooLarge(len) => format!(
+            "corrupt MCAP: a chunk claims {len} bytes uncompressed, more than the {} MiB a \
+             chunk may have",
+            crate::replay::MAX_RECORD_BYTES >> 20
+        ),
+        E::Io(io) => format!("cannot read: {}", plain(&io.to_string())),
+        e => format!("corrupt MCAP: {}", plain(&e.to_string())),
+    }
+}
+
+/// `text` as one line of plain text: terminal escape sequences and other control characters
+/// removed, whitespace runs collapsed to one space. Foreign error messages pass through it
+/// before they are shown.
+pub fn plain(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c == '\u{1b}' {
+            // CSI: ESC [ parameters… final byte in @..=~; other escapes: ESC and one character.
+            if chars.next_if_eq(&'[').is_some() {
+                while chars.next().is_some_and(|c| !('@'..='~').contains(&c)) {}
+            } else {
+                chars.next();
+            }
+        } else if c.is_whitespace() || c.is_control() {
+            if !out.is_empty() && !out.ends_with(' ') {
+                out.push(' ');
+            }
+        } else {
+            out.push(c);
+        }
+    }
+    out.trim_end().to_string()
+}
+
 /// A message of a log, by topic and index on the topic: what an error about its content says.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct MessageAt<'a> {
@@ -133,5 +191,21 @@ impl MessageAt<'_> {
             index: self.index,
             reason,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plain_strips_escapes_and_joins_lines() {
+        assert_eq!(
+            plain("\u{1b}[1m\u{1b}[1mError: not enough bytes\u{1b}[22m\n   at x\r\n\u{7}"),
+            "Error: not enough bytes at x"
+        );
+        assert_eq!(plain("  a\tb  "), "a b");
+        assert_eq!(plain("\u{1b}"), "");
+        assert_eq!(plain("\u{1b}[31"), "");
     }
 }

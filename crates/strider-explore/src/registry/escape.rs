@@ -1,7 +1,7 @@
 //! The parameters of the Prágr23 (thesis C4) strategies (`escape`, `rigid`): C4 Table 3 as defaults.
 
 use super::RobotSpec;
-use super::typed::{ParamDoc, ParamError, StrategyParams, check};
+use super::typed::{ParamDoc, ParamError, StrategyParams, limits};
 use crate::escape::force_predictor::PredictorParams;
 use crate::escape::{EscapeMode, EscapeParams};
 use serde::{Deserialize, Serialize};
@@ -105,112 +105,104 @@ impl StrategyParams for EscapeTable {
             "descriptor",
             "",
             "force predictor descriptor: lab or hist8 (Prágr23 §4.3, §5.3)",
-        ),
+        )
+        .one_of(&["lab", "hist8"]),
         ParamDoc::new(
             "gp_noise_variance",
             "N²",
             "GP noise variance σ²_n; auto: 0.1 (Prágr23 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "gp_signal_variance",
             "N²",
             "GP signal variance σ²_exp; auto: 1 (Prágr23 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "gp_lengthscale",
             "",
             "GP lengthscale l_exp; auto: 1 for lab, 0.4 for hist8 (Prágr23 Tbl. 3)",
-        ),
+        )
+        .above(0.0, 1000.0),
         ParamDoc::new(
             "learn_hz",
             "Hz",
             "predictor relearning rate (Prágr23 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_RATE_HZ),
         ParamDoc::new(
             "i_thr_predict",
             "nat",
             "minimum information gain of a predictor goal (Prágr23 Tbl. 3)",
-        ),
-        ParamDoc::new("r_hist", "m", "histogram radius (Prágr23 Tbl. 3)"),
+        )
+        .within(0.0, 1000.0),
+        ParamDoc::new("r_hist", "m", "histogram radius (Prágr23 Tbl. 3)")
+            .above(0.0, limits::MAX_DESCRIPTOR_RADIUS_M),
         ParamDoc::new(
             "f_trav",
             "N",
             "largest force the robot pushes through, F_trav (Prágr23 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "sigma_sensor_sq",
             "N²",
             "bumper noise variance σ²_sensor (Prágr23 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "sigma_0_sq",
             "N²",
             "prior variance σ²_0 of the haptic fusion (Prágr23 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "d_cl",
             "m",
             "spatial-goal cluster radius d_cl (Prágr23 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_RADIUS_M),
         ParamDoc::new(
             "n_cl",
             "cells",
             "cells a spatial-goal cluster needs, n_cl (Prágr23 Tbl. 3)",
-        ),
-        ParamDoc::new("control_hz", "Hz", "control rate (ours)"),
+        )
+        .count(1, 1_000_000),
+        ParamDoc::new("control_hz", "Hz", "control rate (ours)").within(1.0, limits::MAX_RATE_HZ),
         ParamDoc::new(
             "view_hz",
             "Hz",
             "predictions applied and spatial goals, Alg. 2 lines 6-10 (ours)",
-        ),
-        ParamDoc::new("record_hz", "Hz", "rate of the report's time series (ours)"),
+        )
+        .above(0.0, limits::MAX_RATE_HZ),
+        ParamDoc::new("record_hz", "Hz", "rate of the report's time series (ours)")
+            .above(0.0, limits::MAX_RATE_HZ),
         ParamDoc::new(
             "no_goal_grace_s",
             "s",
             "the exploration ends after this long without a goal (ours)",
-        ),
+        )
+        .within(0.0, 86_400.0),
         ParamDoc::new(
             "exclusion_m",
             "m",
             "radius around a failed obstacle goal not pursued again (ours)",
-        ),
+        )
+        .within(0.0, limits::MAX_RADIUS_M),
         ParamDoc::new(
             "same_goal_m",
             "m",
             "a new goal this close to the current one keeps the path (ours)",
-        ),
+        )
+        .within(0.0, limits::MAX_RADIUS_M),
         ParamDoc::new(
             "info_gain_spacing_m",
             "m",
             "Eq. 8 candidate spacing; auto: max(0.2 m, r_sensor/20) (ours)",
-        ),
+        )
+        .above(0.0, 100.0),
     ];
-
-    fn validate(&self) -> Result<(), ParamError> {
-        check::positive_opt("gp_noise_variance", self.gp_noise_variance)?;
-        check::positive_opt("gp_signal_variance", self.gp_signal_variance)?;
-        check::positive_opt("gp_lengthscale", self.gp_lengthscale)?;
-        check::positive_opt("info_gain_spacing_m", self.info_gain_spacing_m)?;
-        check::all_positive(&[
-            ("learn_hz", self.learn_hz),
-            ("r_hist", self.r_hist),
-            ("f_trav", self.f_trav),
-            ("sigma_sensor_sq", self.sigma_sensor_sq),
-            ("sigma_0_sq", self.sigma_0_sq),
-            ("d_cl", self.d_cl),
-            ("view_hz", self.view_hz),
-            ("record_hz", self.record_hz),
-        ])?;
-        check::all_non_negative(&[
-            ("i_thr_predict", self.i_thr_predict),
-            ("no_goal_grace_s", self.no_goal_grace_s),
-            ("exclusion_m", self.exclusion_m),
-            ("same_goal_m", self.same_goal_m),
-        ])?;
-        check::within("control_hz", self.control_hz, 1.0, 1000.0)?;
-        check::count("n_cl", self.n_cl, 1, 1_000_000)?;
-        Ok(())
-    }
 }
 
 impl EscapeTable {

@@ -425,6 +425,93 @@ mod tests {
         assert!(find("frontier").unwrap_err().to_string().contains("gtsp"));
     }
 
+    /// Every numeric parameter of `P`: NaN, infinity, a negative value, a fraction where a
+    /// whole number is wanted, a value above its cap and one of the wrong type are refused
+    /// with one line naming the key, the value and the range; the defaults pass.
+    fn every_range_is_enforced<P: StrategyParams + std::fmt::Debug>(strategy: &str) {
+        let s = find(strategy).unwrap();
+        P::default().validate().unwrap();
+        for d in P::DOCS {
+            let bad: Vec<String> = match d.range {
+                typed::Range::Above(lo, hi) | typed::Range::Within(lo, hi) => vec![
+                    "nan".into(),
+                    "inf".into(),
+                    format!("{}", lo - 1.0),
+                    format!("{:e}", hi * 2.0),
+                    "\"x\"".into(),
+                ],
+                typed::Range::Count(_, hi) => {
+                    vec!["-3".into(), "0.5".into(), format!("{}", hi + 1)]
+                }
+                typed::Range::Flag => vec!["1".into()],
+                typed::Range::OneOf(_) => vec!["hsv".into()],
+                typed::Range::EachWithin(..) => vec!["{ fast = -1 }".into()],
+                typed::Range::Name | typed::Range::Any => vec!["1".into()],
+            };
+            for v in bad {
+                let e = s
+                    .configure(None, &[(d.key.into(), v.clone())])
+                    .unwrap_err()
+                    .to_string();
+                assert!(
+                    e.contains(&format!("`{}`", d.key)) && !e.contains('\n'),
+                    "{strategy} {}={v}: {e}",
+                    d.key
+                );
+                // A range check names the value and what is allowed.
+                if d.range != typed::Range::Any && d.range != typed::Range::Name {
+                    assert!(e.contains("must be"), "{strategy} {}={v}: {e}", d.key);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_strategy_refuses_values_out_of_range() {
+        every_range_is_enforced::<TourParams>("gtsp");
+        every_range_is_enforced::<RbcmTable>("rbcm-greedy");
+        every_range_is_enforced::<EscapeTable>("escape");
+    }
+
+    #[test]
+    fn errors_name_key_value_range_and_unit() {
+        let e = |strategy: &str, k: &str, v: &str| {
+            let mut t = toml::Table::new();
+            t.insert(
+                k.into(),
+                toml::from_str::<toml::Table>(&format!("v = {v}")).unwrap()["v"].clone(),
+            );
+            find(strategy)
+                .unwrap()
+                .configure(Some(&t), &[])
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(
+            e("gtsp", "n_min", "-3"),
+            "strategy gtsp: `n_min` = -3: must be a whole number of cells ≥ 1 and ≤ 1000000"
+        );
+        assert_eq!(
+            e("escape", "r_hist", "-0.1"),
+            "strategy escape: `r_hist` = -0.1: must be a finite number > 0 m and ≤ 2 m"
+        );
+        assert_eq!(
+            e("rbcm-greedy", "plan_hz", "nan"),
+            "strategy rbcm-greedy: `plan_hz` = nan: must be a finite number > 0 Hz and ≤ 1000 Hz"
+        );
+        assert!(e("gtsp", "lenghtscale", "1").contains("did you mean `lengthscale`?"));
+        assert!(e("gtsp", "zzz", "1").contains("the parameters are lengthscale, sigma_s"));
+        let m = e("rbcm-greedy", "m_min", "60");
+        assert!(
+            m.contains("`m_min` = 60") && m.contains("m_max = 50"),
+            "{m}"
+        );
+        // A whole number where a number is wanted is fine.
+        let mut t = toml::Table::new();
+        t.insert("c_loss".into(), toml::Value::Integer(7));
+        assert!(find("gtsp").unwrap().configure(Some(&t), &[]).is_ok());
+    }
+
     #[test]
     fn design_choices_reach_the_mission_parameters() {
         let robot = RobotSpec {

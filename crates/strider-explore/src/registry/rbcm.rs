@@ -1,7 +1,7 @@
 //! The parameters of the Prágr19 explorer (`rbcm-greedy`): Prágr19 Table I and §V as defaults.
 
 use super::RobotSpec;
-use super::typed::{ParamDoc, ParamError, StrategyParams, check};
+use super::typed::{ParamDoc, ParamError, StrategyParams, limits};
 use crate::rbcm_greedy::RbcmGreedyParams;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -82,91 +82,79 @@ impl StrategyParams for RbcmTable {
             "gait",
             "",
             "gait walked throughout; auto: adaptive if the robot has it, else its first (Prágr19 §V)",
-        ),
-        ParamDoc::new("mcost_cell", "m", "Mcost cell size (Prágr19 §V)"),
+        ).name(),
+        ParamDoc::new("mcost_cell", "m", "Mcost cell size (Prágr19 §V)").within(0.01, 10.0),
         ParamDoc::new(
             "delta_desc",
             "m",
             "descriptor neighbourhood δ_desc (Prágr19 Eq. 7-10)",
-        ),
+        ).above(0.0, limits::MAX_DESCRIPTOR_RADIUS_M),
         ParamDoc::new(
             "delta_score",
             "m",
             "score neighbourhood δ_score (Prágr19 Eq. 15)",
-        ),
+        ).above(0.0, limits::MAX_RADIUS_M),
         ParamDoc::new(
             "lambda_score",
             "",
             "λ_score of Eq. 16 (Prágr19 Tbl. I, adaptive gait)",
-        ),
+        ).within(0.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "lambda_score_by_gait",
             "",
             "λ_score per gait name, e.g. { regular = 0.0005 } (Prágr19 Tbl. I)",
-        ),
-        ParamDoc::new("m_max", "pairs", "pairs per expert m_max (Prágr19 Tbl. I)"),
+        ).each_within(0.0, limits::MAX_MAGNITUDE),
+        ParamDoc::new("m_max", "pairs", "pairs per expert m_max (Prágr19 Tbl. I)").count(1, limits::MAX_EXPERT_PAIRS),
         ParamDoc::new(
             "m_min",
             "pairs",
             "pairs an expert needs to predict, m_min (Prágr19 Tbl. I)",
-        ),
+        ).count(0, limits::MAX_EXPERT_PAIRS),
         ParamDoc::new(
             "gp_lengthscale",
             "",
             "initial lengthscale of each expert, exponential kernel (Prágr19 §V-A)",
-        ),
+        ).above(0.0, 1000.0),
         ParamDoc::new(
             "gp_signal_variance",
             "rad⁴",
             "initial signal variance of each expert (ours, sized to the roll variances)",
-        ),
+        ).above(0.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "gp_noise_variance",
             "rad⁴",
             "initial noise variance of each expert (ours, sized to the roll variances)",
-        ),
-        ParamDoc::new("cost_window_s", "s", "roll-variance window (Prágr19 §IV-B)"),
+        ).above(0.0, limits::MAX_MAGNITUDE),
+        ParamDoc::new("cost_window_s", "s", "roll-variance window (Prágr19 §IV-B)").above(0.0, limits::MAX_DURATION_S),
         ParamDoc::new(
             "sample_period_s",
             "s",
             "one pair kept per this much walking; auto: 60 s / m_max (Prágr19 §V)",
-        ),
+        ).above(0.0, limits::MAX_DURATION_S),
         ParamDoc::new(
             "carrot_m",
             "m",
             "follow-the-carrot waypoint spacing (Prágr19 §V)",
-        ),
-        ParamDoc::new("plan_hz", "Hz", "planning cycle rate (ours)"),
-        ParamDoc::new("control_hz", "Hz", "control rate (ours)"),
+        ).within(0.01, 100.0),
+        ParamDoc::new("plan_hz", "Hz", "planning cycle rate (ours)").above(0.0, limits::MAX_RATE_HZ),
+        ParamDoc::new("control_hz", "Hz", "control rate (ours)").within(1.0, limits::MAX_RATE_HZ),
         ParamDoc::new(
             "r_spatial",
             "m",
             "frontier exclusion radius around the robot; auto: the map's (Prágr19 Eq. 13)",
-        ),
+        ).above(0.0, limits::MAX_RADIUS_M),
     ];
 
-    fn validate(&self) -> Result<(), ParamError> {
-        check::all_positive(&[
-            ("mcost_cell", self.mcost_cell),
-            ("delta_desc", self.delta_desc),
-            ("delta_score", self.delta_score),
-            ("gp_lengthscale", self.gp_lengthscale),
-            ("gp_signal_variance", self.gp_signal_variance),
-            ("gp_noise_variance", self.gp_noise_variance),
-            ("cost_window_s", self.cost_window_s),
-            ("carrot_m", self.carrot_m),
-            ("plan_hz", self.plan_hz),
-        ])?;
-        check::within("mcost_cell", self.mcost_cell, 0.01, 10.0)?;
-        check::within("control_hz", self.control_hz, 1.0, 1000.0)?;
-        check::non_negative("lambda_score", self.lambda_score)?;
-        for (g, &v) in &self.lambda_score_by_gait {
-            check::non_negative(&format!("lambda_score_by_gait.{g}"), v)?;
+    fn check_together(&self) -> Result<(), ParamError> {
+        if self.m_min > self.m_max {
+            return Err(ParamError::new(
+                "m_min",
+                format!(
+                    "= {}: must be at most m_max = {} pairs",
+                    self.m_min, self.m_max
+                ),
+            ));
         }
-        check::count("m_max", self.m_max, 1, 100_000)?;
-        check::count("m_min", self.m_min, 0, self.m_max)?;
-        check::positive_opt("sample_period_s", self.sample_period_s)?;
-        check::positive_opt("r_spatial", self.r_spatial)?;
         Ok(())
     }
 }

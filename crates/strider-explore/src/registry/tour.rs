@@ -2,7 +2,7 @@
 //! (left column) and Table 4 as defaults, our own design choices with today's behaviour.
 
 use super::RobotSpec;
-use super::typed::{ParamDoc, ParamError, StrategyParams, check};
+use super::typed::{ParamDoc, StrategyParams, limits};
 use crate::params::{MissionParams, Rates, Strategy, TourSolver};
 use serde::{Deserialize, Serialize};
 use strider_learn::cost_model::CostModelParams;
@@ -135,183 +135,174 @@ impl StrategyParams for TourParams {
             "lengthscale",
             "",
             "GP lengthscale l over the 9-colour histogram (Prágr22 Tbl. 3)",
-        ),
-        ParamDoc::new("sigma_s", "", "GP signal variance σ_s (Prágr22 Tbl. 3)"),
+        )
+        .above(0.0, 1000.0),
+        ParamDoc::new("sigma_s", "", "GP signal variance σ_s (Prágr22 Tbl. 3)")
+            .above(0.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "sigma_eps",
             "",
             "GP noise standard deviation σ_ε (Prágr22 Tbl. 3)",
-        ),
+        )
+        .above(0.0, 1000.0),
         ParamDoc::new(
             "sigma_sense",
             "",
             "σ_sense of the per-cell cost fusion (Prágr22 Tbl. 3)",
-        ),
+        )
+        .above(0.0, 1000.0),
         ParamDoc::new(
             "sigma_0_sq",
             "",
             "σ_0² of the per-cell cost fusion (Prágr22 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "n_min",
             "cells",
             "cells a terrain class needs before it is learned (Prágr22 Tbl. 3)",
-        ),
-        ParamDoc::new("m_t", "", "measurements kept per cell (Prágr22 Tbl. 3)"),
+        )
+        .count(1, 1_000_000),
+        ParamDoc::new("m_t", "", "measurements kept per cell (Prágr22 Tbl. 3)")
+            .count(1, limits::MAX_MEASUREMENTS_PER_CELL),
         ParamDoc::new(
             "d_s",
             "",
             "learning-set spacing in descriptor space (Prágr22 Tbl. 3)",
-        ),
-        ParamDoc::new("c_max", "", "largest cost (Prágr22 Tbl. 3)"),
+        )
+        .above(0.0, 10.0),
+        ParamDoc::new("c_max", "", "largest cost (Prágr22 Tbl. 3)")
+            .within(1.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "n_erode_steps",
             "",
             "erosion steps of the class masks (Prágr22 Alg. 10)",
-        ),
+        )
+        .count(0, 100),
         ParamDoc::new(
             "n_dilate_steps",
             "",
             "dilation steps of the class masks (Prágr22 Alg. 10)",
-        ),
+        )
+        .count(0, 100),
         ParamDoc::new(
             "n_dilate_size",
             "cells",
             "dilation size of the class masks (Prágr22 Alg. 10)",
-        ),
-        ParamDoc::new("igng_eps_winner", "", "IGNG ε_winner (Prágr22 Tbl. 3)"),
+        )
+        .count(0, 100),
+        ParamDoc::new("igng_eps_winner", "", "IGNG ε_winner (Prágr22 Tbl. 3)").above(0.0, 1.0),
         ParamDoc::new(
             "igng_eps_neighbour",
             "",
             "IGNG ε_neighbour (Prágr22 Tbl. 3)",
-        ),
-        ParamDoc::new("igng_age_mature", "", "IGNG age_mature (Prágr22 Tbl. 3)"),
-        ParamDoc::new("igng_age_max", "", "IGNG age_max (Prágr22 Tbl. 3)"),
-        ParamDoc::new("igng_batch", "", "IGNG batch size (Prágr22 Tbl. 3)"),
+        )
+        .above(0.0, 1.0),
+        ParamDoc::new("igng_age_mature", "", "IGNG age_mature (Prágr22 Tbl. 3)")
+            .count(1, 1_000_000),
+        ParamDoc::new("igng_age_max", "", "IGNG age_max (Prágr22 Tbl. 3)").count(1, 1_000_000),
+        ParamDoc::new("igng_batch", "", "IGNG batch size (Prágr22 Tbl. 3)")
+            .count(1, limits::MAX_IGNG_BATCH),
         ParamDoc::new(
             "delta_t",
             "s",
             "Δt, the cost measurement window (Prágr22 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_DURATION_S),
         ParamDoc::new(
             "c_high",
             "",
             "c_high of the tanh bound, Eq. 20 (Prágr22 Tbl. 3)",
-        ),
+        )
+        .within(1.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "c_loss",
             "",
             "c_loss of the distance transform (Prágr22 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_MAGNITUDE),
         ParamDoc::new(
             "dt_sample",
             "s",
             "Δt_sample, the sampling manoeuvre (Prágr22 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_DURATION_S),
         ParamDoc::new(
             "dt_fallback",
             "s",
             "Δt_fallback, the stuck reflex (Prágr22 Tbl. 3)",
-        ),
+        )
+        .above(0.0, limits::MAX_DURATION_S),
         ParamDoc::new(
             "turning_baseline_s",
             "s",
             "baseline of the heading rate that tells turning from walking (ours)",
-        ),
+        )
+        .above(0.0, 60.0),
         ParamDoc::new(
             "max_sites_per_goal",
             "",
             "sampling sites kept per cost goal in the GTSP (ours)",
-        ),
+        )
+        .count(1, limits::MAX_SITES_PER_GOAL),
         ParamDoc::new(
             "spatial_hz",
             "Hz",
             "spatial goal identification (Prágr22 Tbl. 4)",
-        ),
+        )
+        .above(0.0, limits::MAX_RATE_HZ),
         ParamDoc::new(
             "learning_hz",
             "Hz",
             "learning and cost goals (Prágr22 Tbl. 4)",
-        ),
-        ParamDoc::new("tour_hz", "Hz", "tour and path planning (Prágr22 Tbl. 4)"),
+        )
+        .above(0.0, limits::MAX_RATE_HZ),
+        ParamDoc::new("tour_hz", "Hz", "tour and path planning (Prágr22 Tbl. 4)")
+            .above(0.0, limits::MAX_RATE_HZ),
         ParamDoc::new(
             "control_hz",
             "Hz",
             "gait choice and motion (Prágr22 Tbl. 4)",
-        ),
+        )
+        .within(1.0, limits::MAX_RATE_HZ),
         ParamDoc::new(
             "gtsp_time_limit_s",
             "s",
             "wall-clock budget of one GTSP solve (ours)",
-        ),
-        ParamDoc::new("gtsp_max_trials", "", "restarts of one GTSP solve (ours)"),
+        )
+        .above(0.0, limits::MAX_DURATION_S),
+        ParamDoc::new("gtsp_max_trials", "", "restarts of one GTSP solve (ours)").count(1, 1000),
         ParamDoc::new(
             "gtsp_max_iterations",
             "",
             "iterations per restart of one GTSP solve (ours)",
-        ),
+        )
+        .count(1, 10_000_000),
         ParamDoc::new(
             "info_gain_spacing_m",
             "m",
             "Eq. 11 candidate spacing; auto: max(0.2 m, r_sensor/20) (ours)",
-        ),
+        )
+        .above(0.0, 100.0),
         ParamDoc::new(
             "look_around",
             "",
             "turn once on the spot at a reached spatial goal (ours)",
-        ),
+        )
+        .flag(),
         ParamDoc::new(
             "commit_to_goal",
             "",
             "keep the pursued goal first when the goals change (ours)",
-        ),
+        )
+        .flag(),
         ParamDoc::new(
             "stuck_windows_as_samples",
             "",
             "a window that finds the robot stuck is also a cost sample of its gait (ours)",
-        ),
+        )
+        .flag(),
     ];
-
-    fn validate(&self) -> Result<(), ParamError> {
-        check::all_positive(&[
-            ("lengthscale", self.lengthscale),
-            ("sigma_s", self.sigma_s),
-            ("sigma_eps", self.sigma_eps),
-            ("sigma_sense", self.sigma_sense),
-            ("sigma_0_sq", self.sigma_0_sq),
-            ("d_s", self.d_s),
-            ("igng_eps_winner", self.igng_eps_winner),
-            ("igng_eps_neighbour", self.igng_eps_neighbour),
-            ("delta_t", self.delta_t),
-            ("c_loss", self.c_loss),
-            ("dt_sample", self.dt_sample),
-            ("dt_fallback", self.dt_fallback),
-            ("turning_baseline_s", self.turning_baseline_s),
-            ("spatial_hz", self.spatial_hz),
-            ("learning_hz", self.learning_hz),
-            ("tour_hz", self.tour_hz),
-            ("gtsp_time_limit_s", self.gtsp_time_limit_s),
-        ])?;
-        check::within("c_high", self.c_high, 1.0, 1e6)?;
-        check::within("c_max", self.c_max, 1.0, 1e6)?;
-        check::within("control_hz", self.control_hz, 1.0, 1000.0)?;
-        check::count("n_min", self.n_min, 1, 1_000_000)?;
-        check::count("m_t", self.m_t, 1, 10_000)?;
-        check::count("n_erode_steps", self.n_erode_steps, 0, 100)?;
-        check::count("n_dilate_steps", self.n_dilate_steps, 0, 100)?;
-        check::count("n_dilate_size", self.n_dilate_size, 0, 100)?;
-        check::count("igng_batch", self.igng_batch, 1, 10_000_000)?;
-        check::count("max_sites_per_goal", self.max_sites_per_goal, 1, 1000)?;
-        check::count("gtsp_max_trials", self.gtsp_max_trials, 1, 1000)?;
-        check::count(
-            "gtsp_max_iterations",
-            self.gtsp_max_iterations,
-            1,
-            10_000_000,
-        )?;
-        check::positive_opt("info_gain_spacing_m", self.info_gain_spacing_m)?;
-        Ok(())
-    }
 }
 
 impl TourParams {

@@ -1,7 +1,7 @@
 //! The point clouds of a replay: streamed from the file in a second pass, held in stamp order
 //! within the reorder window, and decoded into the world frame only when delivered.
 
-use super::reader::Reader;
+use super::reader::{Reader, Source};
 use super::roles::Role;
 use super::tf::TfBuffer;
 use crate::cdr;
@@ -10,8 +10,13 @@ use crate::error::{LogError, MessageAt};
 use crate::ros2::{self, DecodedCloud, HeaderPrefix, nanos_to_seconds, seconds_to_nanos};
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use strider_core::{Point3, PointCloud};
+
+/// Most bytes of cloud messages held at once, waiting for delivery: the clouds stamped within
+/// the reorder window of the delivery time are held (a few seconds of a sensor's clouds,
+/// tens of MB); a log whose clouds all carry the same stamp would otherwise be held whole.
+pub const MAX_PENDING_CLOUD_BYTES: usize = 1 << 30;
 
 /// A cloud message waiting for delivery.
 pub(super) struct PendingCloud {
@@ -22,7 +27,7 @@ pub(super) struct PendingCloud {
     /// The index of its configured cloud topic.
     pub(super) sensor: u8,
     /// Its index on its topic.
-    index: usize,
+    pub(super) index: usize,
     data: Vec<u8>,
 }
 
@@ -60,26 +65,29 @@ pub(super) struct CloudStream {
     /// Stamp of the latest cloud read (relative ns).
     read_ns: i64,
     pending: BinaryHeap<Reverse<PendingCloud>>,
+    /// Bytes of the pending clouds' messages.
+    pending_bytes: usize,
 }
 
 impl CloudStream {
-    /// The clouds of the log at `path` on the topics of `roles`, stamps relative to `start_ns`.
+    /// The clouds of the log of `src` on the topics of `roles`, stamps relative to `start_ns`.
     pub(super) fn open(
-        path: &Path,
+        src: &Source,
         cfg: &ReplayConfig,
         roles: HashMap<String, Role>,
         start_ns: i64,
     ) -> Result<Self, LogError> {
         Ok(Self {
-            path: path.into(),
+            path: src.path().into(),
             roles,
             start_ns,
             window_ns: seconds_to_nanos(cfg.reorder_window_s),
-            reader: Some(Reader::open(path)?),
+            reader: Some(Reader::open(src)?),
             seq: 0,
             cloud_index: vec![0; cfg.clouds.len()],
             read_ns: i64::MIN,
             pending: BinaryHeap::new(),
+            pending_bytes: 0,
         })
     }
 
@@ -90,7 +98,9 @@ impl CloudStream {
 
     /// Takes the earliest pending cloud.
     pub(super) fn pop(&mut self) -> Option<PendingCloud> {
-        self.pending.pop().map(|Reverse(c)| c)
+        let c = self.pending.pop()?.0;
+        self.pending_bytes -= c.data.len();
+        Some(c)
     }
 
     /// Reads cloud messages until one stamped after `limit` + the reorder window (or the end).
@@ -117,6 +127,15 @@ impl CloudStream {
             let h: HeaderPrefix = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
             let ns = h.header.stamp.nanos().saturating_sub(self.start_ns);
             self.read_ns = self.read_ns.max(ns);
+            self.pending_bytes += m.data.len();
+            if self.pending_bytes > MAX_PENDING_CLOUD_BYTES {
+                return Err(at.content(format!(
+                    "more than {} MiB of clouds are stamped within reorder_window_s = {} s of \
+                     each other: the stamps are inconsistent, or lower reorder_window_s",
+                    MAX_PENDING_CLOUD_BYTES >> 20,
+                    nanos_to_seconds(self.window_ns)
+                )));
+            }
             self.pending.push(Reverse(PendingCloud {
                 ns,
                 seq: self.seq,

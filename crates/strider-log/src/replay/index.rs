@@ -1,7 +1,7 @@
 //! The checking pass of a replay: every message on a configured topic is checked and all but
 //! the clouds' payloads are decoded, so a faulty log is reported before any work.
 
-use super::reader::Reader;
+use super::reader::{Reader, Source};
 use super::roles::{Role, check};
 use super::tf::{Iso, TfBuffer};
 use crate::cdr;
@@ -18,6 +18,11 @@ use strider_core::GaitId;
 /// Longest log accepted, s: a longer span means a bogus stamp, which would make the replay
 /// tick through years of nothing.
 pub const MAX_SPAN_S: f64 = 7.0 * 86400.0;
+
+/// Most poses, transforms, gait and motion messages a replay keeps from its checking pass
+/// (about 100 bytes each, 1 GB in all): 28 hours of a 100 Hz pose stream. A longer log is
+/// split, or its pose stream thinned, before it is replayed.
+pub const MAX_INDEXED: usize = 10_000_000;
 
 /// A stamp (ns) with the topic and index of the message that carried it.
 type Stamped = (i64, String, usize);
@@ -42,6 +47,8 @@ pub(super) struct LogIndex {
     pub(super) motion: Vec<(i64, u64, u8)>,
     /// Clouds per configured cloud topic.
     pub(super) cloud_count: Vec<usize>,
+    /// Poses, transforms, gait and motion messages kept.
+    kept: usize,
     /// The earliest and latest stamps.
     lo: Stamped,
     hi: Stamped,
@@ -55,14 +62,15 @@ struct Context<'a> {
 }
 
 impl LogIndex {
-    /// Reads and checks the log at `path`.
+    /// Reads and checks the log of `src`.
     pub(super) fn read(
-        path: &Path,
+        src: &Source,
         cfg: &ReplayConfig,
         roles: &HashMap<String, Role>,
         gait_names: &[&str],
     ) -> Result<Self, LogError> {
-        let mut reader = Reader::open(path)?;
+        let path = src.path();
+        let mut reader = Reader::open(src)?;
         let mut ix = LogIndex {
             counts: BTreeMap::new(),
             messages: 0,
@@ -72,6 +80,7 @@ impl LogIndex {
             gaits: Vec::new(),
             motion: Vec::new(),
             cloud_count: vec![0; cfg.clouds.len()],
+            kept: 0,
             lo: (i64::MAX, String::new(), 0),
             hi: (i64::MIN, String::new(), 0),
         };
@@ -102,6 +111,7 @@ impl LogIndex {
         let schema = m.channel.schema.as_ref().map_or("", |s| s.name.as_str());
         check(topic, &m.channel.message_encoding, schema, role)?;
         let at = MessageAt { topic, index };
+        self.keep(at)?;
         let log_ns = i64::try_from(m.log_time).unwrap_or(i64::MAX);
         match role {
             Role::Odometry => {
@@ -128,6 +138,19 @@ impl LogIndex {
                 self.span(h.header.stamp.nanos(), at);
                 self.cloud_count[i as usize] += 1;
             }
+        }
+        Ok(())
+    }
+
+    /// Counts a message kept (a transform message counts once more per transform), refusing
+    /// more than [`MAX_INDEXED`].
+    fn keep(&mut self, at: MessageAt) -> Result<(), LogError> {
+        self.kept += 1;
+        if self.kept > MAX_INDEXED {
+            return Err(at.content(format!(
+                "more than {MAX_INDEXED} poses, transforms, gait and motion messages: split \
+                 the log, or thin its pose and /tf streams"
+            )));
         }
         Ok(())
     }
@@ -169,6 +192,7 @@ impl LogIndex {
         cfg: &ReplayConfig,
     ) -> Result<(), LogError> {
         for ts in msg.transforms {
+            self.keep(at)?;
             let Some(iso) = Iso::from_msg(&ts.transform) else {
                 return Err(at.content(format!(
                     "transform {} → {} is not finite or has a zero rotation",

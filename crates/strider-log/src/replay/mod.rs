@@ -39,17 +39,20 @@ mod reader;
 mod roles;
 mod tf;
 
-pub use index::MAX_SPAN_S;
+pub use clouds::MAX_PENDING_CLOUD_BYTES;
+pub use index::{MAX_INDEXED, MAX_SPAN_S};
 pub use reader::MAX_RECORD_BYTES;
 
 use crate::config::ReplayConfig;
-use crate::error::LogError;
+use crate::error::{LogError, MessageAt};
 use crate::ros2::{motion_bits, nanos_to_seconds, seconds_to_nanos};
-use clouds::{CloudStream, world_cloud};
+use clouds::{CloudStream, PendingCloud, world_cloud};
 use index::LogIndex;
 use poses::{TimedPose, assign_gaits, default_gait, world_poses};
+use reader::Source;
 use roles::topic_roles;
 use std::path::Path;
+use std::sync::Arc;
 use strider_core::GaitSpec;
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::{GaitId, Point2};
@@ -92,6 +95,9 @@ pub struct LogReplay {
     next_motion: usize,
     state: MotionState,
     clouds: CloudStream,
+    /// The delivery limit of the previous `advance` (relative ns): a cloud stamped at or
+    /// before it arrives too late.
+    delivered_to: i64,
     now: f64,
     stats: ReplayStats,
     warnings: Vec<String>,
@@ -101,11 +107,33 @@ impl LogReplay {
     /// Opens and checks a log (see the module docs); `gaits` are the robot's gaits (their names,
     /// and the fastest is the start gait unless the configuration names one).
     pub fn open(path: &Path, cfg: &ReplayConfig, gaits: &[GaitSpec]) -> Result<Self, LogError> {
+        Self::open_source(Source::File(path.into()), cfg, gaits)
+    }
+
+    /// [`LogReplay::open`] of a log in memory; errors call it `name`. Any bytes give a replay
+    /// or an error, never a panic; what they make the reader allocate is bounded by
+    /// [`MAX_RECORD_BYTES`] a record, the clouds held by [`MAX_PENDING_CLOUD_BYTES`] and the
+    /// index by [`MAX_INDEXED`].
+    pub fn from_bytes(
+        name: &str,
+        bytes: impl Into<Arc<[u8]>>,
+        cfg: &ReplayConfig,
+        gaits: &[GaitSpec],
+    ) -> Result<Self, LogError> {
+        let src = Source::Bytes {
+            name: name.into(),
+            bytes: bytes.into(),
+        };
+        Self::open_source(src, cfg, gaits)
+    }
+
+    fn open_source(src: Source, cfg: &ReplayConfig, gaits: &[GaitSpec]) -> Result<Self, LogError> {
+        let path = src.path();
         let roles = topic_roles(cfg)?;
         let gait = default_gait(cfg, gaits)?;
         let gait_names: Vec<&str> = gaits.iter().map(|g| g.name.as_str()).collect();
         // Pass 1: check everything, decode all but the clouds.
-        let mut ix = LogIndex::read(path, cfg, &roles, &gait_names)?;
+        let mut ix = LogIndex::read(&src, cfg, &roles, &gait_names)?;
         ix.require_topics(path, cfg)?;
         ix.tf.sort();
         let (start, end) = ix.span_ns()?;
@@ -134,7 +162,8 @@ impl LogReplay {
             motion,
             next_motion: 0,
             state: MotionState::default(),
-            clouds: CloudStream::open(path, cfg, roles, start)?,
+            clouds: CloudStream::open(&src, cfg, roles, start)?,
+            delivered_to: i64::MIN,
             now: 0.0,
             stats,
             warnings,
@@ -181,6 +210,9 @@ impl LogReplay {
                 self.stats.poses_delivered += 1;
                 sink.on_pose(&p);
             } else if let Some(c) = self.clouds.pop() {
+                if c.ns <= self.delivered_to {
+                    return Err(self.late(&c));
+                }
                 if self.cfg.keyframes && !sink.wants_cloud(c.sensor) {
                     self.stats.clouds_skipped += 1;
                     continue;
@@ -202,6 +234,22 @@ impl LogReplay {
             }
         }
         Ok(())
+    }
+
+    /// The error of cloud `c`, which comes after clouds stamped later than it were delivered.
+    fn late(&self, c: &PendingCloud) -> LogError {
+        let at = MessageAt {
+            topic: &self.cfg.clouds[c.sensor as usize].topic,
+            index: c.index,
+        };
+        at.content(format!(
+            "stamped {:.3} s into the log, after clouds up to {:.3} s were delivered: the \
+             clouds are more than reorder_window_s = {} s out of stamp order in the file \
+             (raise reorder_window_s)",
+            nanos_to_seconds(c.ns),
+            nanos_to_seconds(self.delivered_to),
+            self.cfg.reorder_window_s
+        ))
     }
 
     /// The motion state of the latest motion message stamped up to `limit` (relative ns).
@@ -266,6 +314,7 @@ impl Robot for LogReplay {
         let limit = seconds_to_nanos(self.now).saturating_add(1);
         self.clouds.fill(limit)?;
         self.deliver(limit, sink)?;
+        self.delivered_to = self.delivered_to.max(limit);
         self.follow_motion(limit);
         Ok(self.state)
     }

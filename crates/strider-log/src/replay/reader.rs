@@ -1,16 +1,44 @@
 //! The MCAP message reader of a replay, bounded against corrupted lengths and counting the
 //! bytes it read to say where a fault was found.
 
-use crate::error::LogError;
+use crate::error::{LogError, mcap_reason};
 use std::cell::Cell;
 use std::fs::File;
-use std::io::{BufReader, Read};
-use std::path::Path;
+use std::io::{BufReader, Cursor, Read};
+use std::path::{Path, PathBuf};
 use std::rc::Rc;
+use std::sync::Arc;
 
 /// Largest record (and decompressed chunk) read, bytes: far above any sensor message, and a
 /// bound on what a corrupted length field can make the reader allocate.
 pub const MAX_RECORD_BYTES: usize = 256 << 20;
+
+/// Where a log's bytes come from: a file, or bytes in memory (named for messages).
+#[derive(Clone, Debug)]
+pub(super) enum Source {
+    File(PathBuf),
+    Bytes { name: PathBuf, bytes: Arc<[u8]> },
+}
+
+impl Source {
+    /// The name errors give the log.
+    pub(super) fn path(&self) -> &Path {
+        match self {
+            Source::File(p) => p,
+            Source::Bytes { name, .. } => name,
+        }
+    }
+
+    fn open(&self) -> Result<Box<dyn Read>, LogError> {
+        Ok(match self {
+            Source::File(p) => {
+                let f = File::open(p).map_err(|e| LogError::io(p, e))?;
+                Box::new(BufReader::with_capacity(1 << 20, f))
+            }
+            Source::Bytes { bytes, .. } => Box::new(Cursor::new(bytes.clone())),
+        })
+    }
+}
 
 /// Counts the bytes read (shared with the owner of the reader, which keeps the source), to
 /// say where a fault was found.
@@ -29,14 +57,13 @@ impl<R: Read> Read for Counting<R> {
 
 /// A message reader and its byte count.
 pub(super) struct Reader {
-    r: mcap::io::MessageReader<Counting<BufReader<File>>>,
+    r: mcap::io::MessageReader<Counting<Box<dyn Read>>>,
     n: Rc<Cell<u64>>,
 }
 
 impl Reader {
-    /// Opens `path` for reading its messages in file order.
-    pub(super) fn open(path: &Path) -> Result<Reader, LogError> {
-        let f = File::open(path).map_err(|e| LogError::io(path, e))?;
+    /// Opens `src` for reading its messages in file order.
+    pub(super) fn open(src: &Source) -> Result<Reader, LogError> {
         let n = Rc::new(Cell::new(0));
         // Bounded record and chunk sizes: a corrupted length must not make the reader allocate
         // what it announces; CRCs checked, so a corrupted chunk is reported as such.
@@ -47,7 +74,7 @@ impl Reader {
         Ok(Reader {
             r: mcap::io::MessageReader::new_with_options(
                 Counting {
-                    inner: BufReader::with_capacity(1 << 20, f),
+                    inner: src.open()?,
                     n: n.clone(),
                 },
                 options,
@@ -63,11 +90,11 @@ impl Reader {
         messages: u64,
     ) -> Option<Result<mcap::Message<'static>, LogError>> {
         let m = self.r.next()?;
-        Some(m.map_err(|source| LogError::Mcap {
+        Some(m.map_err(|e| LogError::Mcap {
             path: path.into(),
             messages: messages as usize,
             offset: self.n.get(),
-            source,
+            reason: mcap_reason(&e, self.n.get()),
         }))
     }
 }

@@ -302,6 +302,11 @@ impl Fields<'_> {
     }
 }
 
+/// Most points of one decoded cloud: 16 M points (256 MB decoded) is well above a dense depth
+/// camera's 2 M or a 128-beam lidar's 260 k; a cloud whose fields overlap in a few bytes a
+/// point would otherwise decode to four times its message size.
+pub const MAX_CLOUD_POINTS: usize = 1 << 24;
+
 /// The number of points, checked against the rows' layout and the `data_len` bytes present
 /// (data at byte `at` of the message).
 fn point_count(head: &PointCloud2Head, data_len: usize, at: usize) -> Result<usize, CdrError> {
@@ -312,6 +317,12 @@ fn point_count(head: &PointCloud2Head, data_len: usize, at: usize) -> Result<usi
         .ok_or_else(|| bad(at, format!("{w} × {h} points overflow")))?;
     if n == 0 {
         return Ok(n);
+    }
+    if n > MAX_CLOUD_POINTS {
+        return Err(bad(
+            at,
+            format!("{w} × {h} points: more than the {MAX_CLOUD_POINTS} a cloud may have"),
+        ));
     }
     if step == 0 {
         return Err(bad(at, "point_step is 0".into()));

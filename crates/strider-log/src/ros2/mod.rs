@@ -23,8 +23,8 @@ mod schema;
 mod std_msgs;
 
 pub use cloud::{
-    DecodedCloud, MissingRgb, PointCloud2Head, PointField, datatype, decode_cloud, encode_cloud,
-    encode_cloud_raw,
+    DecodedCloud, MAX_CLOUD_POINTS, MissingRgb, PointCloud2Head, PointField, datatype,
+    decode_cloud, encode_cloud, encode_cloud_raw,
 };
 pub use geometry::{
     Odometry, Pose, PoseWithCovariance, Quaternion, TfMessage, Transform, TransformStamped, Twist,
