@@ -81,6 +81,12 @@ pub enum BenchCommand {
     /// with learned navigation, with Mann-Whitney U between each pair; writes DIR/compare.json
     /// and DIR/compare.md.
     Compare(CompareArgs),
+    /// Invariants at scale: seeded missions of every strategy on every built-in world it runs
+    /// on (random world and mission seeds, a short time limit per world), each checked against
+    /// the simulator's ground truth (the robot's centre never in an inadmissible cell, plans
+    /// inside the world, missions that end, valid reports); writes DIR/soak.json and
+    /// DIR/soak.md and fails when any invariant broke.
+    Soak(SoakArgs),
 }
 
 #[derive(Subcommand, Debug)]
@@ -449,5 +455,28 @@ pub struct LearnBenchArgs {
     pub jobs: Option<usize>,
     /// Output directory (created if missing).
     #[arg(long, short = 'o', default_value = "out/learn")]
+    pub out: PathBuf,
+}
+
+/// Arguments of `strider bench soak`.
+#[derive(Args, Debug)]
+pub struct SoakArgs {
+    /// Missions to run (strategies in turn, each cycling through its worlds).
+    #[arg(long, default_value_t = 500)]
+    pub missions: usize,
+    /// Seed of the world and mission seeds (same seed: same missions and results).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Missions run in parallel (default: the number of CPUs).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Simulated time limit of every mission, seconds (default: per world, 45–90 s).
+    #[arg(long)]
+    pub time_limit: Option<f64>,
+    /// Run one mission alone, as a violation names it: STRATEGY@SCENARIO:WORLD_SEED:SEED.
+    #[arg(long, value_name = "KEY")]
+    pub rerun: Option<String>,
+    /// Output directory (created if missing).
+    #[arg(long, short = 'o', default_value = "out/soak")]
     pub out: PathBuf,
 }

@@ -112,3 +112,29 @@ fn parse_list<T>(s: &str, flag: &str, parse: impl Fn(&str) -> Option<T>) -> Resu
     }
     Ok(v)
 }
+
+/// `strider bench soak`: invariants at scale; fails when any invariant broke.
+pub fn soak(a: &crate::args::SoakArgs) -> Result<()> {
+    use strider_experiments::soak::{self, SoakOptions};
+    let o = SoakOptions {
+        missions: a.missions,
+        seed: a.seed,
+        jobs: a.jobs.unwrap_or_else(available_jobs),
+        time_limit: a.time_limit,
+        rerun: a.rerun.clone(),
+    };
+    let bar = Bar::new("{spinner} soak: {pos}/{len} missions ({elapsed}, eta {eta})");
+    let s = soak::run(&o, &bar)?;
+    drop(bar);
+    soak::write(&a.out, &s)?;
+    print!("{}", soak::markdown(&s));
+    println!("-> {}", a.out.join("soak.md").display());
+    if s.violations > 0 {
+        bail!(
+            "{}: see {} for what broke and how to rerun each",
+            s.summary,
+            a.out.join("soak.md").display()
+        );
+    }
+    Ok(())
+}

@@ -45,6 +45,7 @@ fn dispatch(command: Command) -> Result<()> {
         Command::Learn(LearnCommand::C4Vegetation(a)) => cmd_learn::vegetation(&a),
         Command::Bench(BenchCommand::Table5(a)) => cmd_bench::table5(&a),
         Command::Bench(BenchCommand::Compare(a)) => cmd_bench::compare(&a),
+        Command::Bench(BenchCommand::Soak(a)) => cmd_bench::soak(&a),
         Command::Scenario(ScenarioCommand::List) => cmd_scenario::list(),
         Command::Scenario(ScenarioCommand::Render(a)) => cmd_scenario::render(&a),
         Command::Scenario(ScenarioCommand::Export(a)) => cmd_scenario::export(&a),

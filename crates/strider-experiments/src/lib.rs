@@ -23,7 +23,8 @@
 //! (strategies of different papers on the same worlds), [`replay`] (a recorded log through the
 //! mission's mapping and learning), [`map_build`] (the map judged against ground truth),
 //! [`stats`] (one definition of each statistic), [`report`] and [`render`] (the HTML report and
-//! the figures), [`scenario_figures`], [`io`], [`parallel`] and [`progress`].
+//! the figures), [`scenario_figures`], [`io`], [`parallel`] and [`progress`]. [`soak`] runs every
+//! strategy on many worlds and checks the invariants every mission must keep.
 
 pub mod compare;
 pub mod io;
@@ -42,5 +43,6 @@ pub mod replay;
 pub mod report;
 pub mod run;
 pub mod scenario_figures;
+pub mod soak;
 pub mod stats;
 pub mod trial;
