@@ -356,10 +356,10 @@ impl MissionConfig {
                 ));
             }
         }
-        // MapParams::validate — the map parameters' own check (strider-map) goes here:
-        // if let Some(map) = &self.map {
-        //     map.validate().map_err(|e| LogError::Config(format!("[mission.map] {e}")))?;
-        // }
+        if let Some(map) = &self.map {
+            map.validate()
+                .map_err(|e| LogError::Config(format!("[mission.map] {e}")))?;
+        }
         Ok(())
     }
 
