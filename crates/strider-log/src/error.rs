@@ -1,6 +1,7 @@
 //! The error type of the crate: what was wrong and where (file, topic, message index, byte
 //! offset).
 
+use strider_core::text::one_line;
 use crate::cdr::CdrError;
 use std::path::PathBuf;
 
@@ -17,7 +18,7 @@ pub enum LogError {
     },
     /// The file is not an MCAP file, or its container is truncated or corrupt (bad magic, CRC,
     /// record lengths, unknown chunk compression, …).
-    #[error("{}: {reason} (near byte {offset}, after {messages} messages)", path.display())]
+    #[error("{}: {} (near byte {offset}, after {messages} messages)", path.display(), one_line(.reason))]
     Mcap {
         /// The file.
         path: PathBuf,
@@ -37,7 +38,12 @@ pub enum LogError {
         source: mcap::McapError,
     },
     /// A topic the configuration needs has no message in the file.
-    #[error("{}: no message on topic {topic} ({what}); topics in the file: {available}", path.display())]
+    #[error(
+        "{}: no message on topic {} ({what}); topics in the file: {}",
+        path.display(),
+        one_line(.topic),
+        one_line(.available)
+    )]
     MissingTopic {
         /// The file.
         path: PathBuf,
@@ -50,7 +56,8 @@ pub enum LogError {
     },
     /// A topic's messages are not in an encoding this reader decodes.
     #[error(
-        "topic {topic}: message encoding {encoding:?} is not supported (ROS 2 \"cdr\" expected)"
+        "topic {}: message encoding {encoding:?} is not supported (ROS 2 \"cdr\" expected)",
+        one_line(.topic)
     )]
     Encoding {
         /// The topic.
@@ -59,7 +66,7 @@ pub enum LogError {
         encoding: String,
     },
     /// A topic carries another message type than the one configured for it.
-    #[error("topic {topic}: schema {schema:?}, expected {expected}")]
+    #[error("topic {}: schema {schema:?}, expected {expected}", one_line(.topic))]
     Schema {
         /// The topic.
         topic: String,
@@ -69,7 +76,7 @@ pub enum LogError {
         expected: String,
     },
     /// A message could not be decoded.
-    #[error("topic {topic}, message {index}: {source}")]
+    #[error("topic {}, message {index}: {}", one_line(.topic), one_line(&.source.to_string()))]
     Decode {
         /// The topic.
         topic: String,
@@ -79,7 +86,7 @@ pub enum LogError {
         source: CdrError,
     },
     /// A message decoded but its content is unusable (unknown gait, missing transform, …).
-    #[error("topic {topic}, message {index}: {reason}")]
+    #[error("topic {}, message {index}: {}", one_line(.topic), one_line(.reason))]
     Content {
         /// The topic.
         topic: String,
@@ -89,7 +96,7 @@ pub enum LogError {
         reason: String,
     },
     /// The replay configuration is invalid.
-    #[error("replay config: {0}")]
+    #[error("replay config: {}", one_line(.0))]
     Config(String),
 }
 
