@@ -8,8 +8,10 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use serde_json::json;
 use strider_learn::gp::{Gp, GpParams, Kernel, KernelKind};
+use strider_learn::gp_csv::{self, CsvError, MAX_TRAIN_ROWS, Table};
 
 use crate::args::PredictArgs;
+use crate::ranges::{check_non_negative, check_positive, show};
 
 /// Options of `strider gp predict`.
 struct PredictOptions<'a> {
@@ -44,66 +46,29 @@ fn parse_kernel(s: &str) -> Result<KernelKind> {
     })
 }
 
-/// A numeric CSV: the column count of its header and the values, row-major.
-struct Table {
-    cols: usize,
-    rows: usize,
-    values: Vec<f64>,
+/// Reads a CSV table; errors name the file.
+fn read_table(path: &Path) -> Result<Table> {
+    gp_csv::read(path).map_err(|e| match e {
+        CsvError::Io { .. } | CsvError::FileTooLarge { .. } => anyhow::Error::new(e),
+        e => anyhow::Error::new(e).context(path.display().to_string()),
+    })
 }
 
-/// Reads a CSV with a header line and finite numbers in every field; errors name the file and
-/// the line.
-fn read_table(path: &Path) -> Result<Table> {
-    let text =
-        fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let mut lines = text.lines().enumerate();
-    let cols = loop {
-        match lines.next() {
-            Some((_, l)) if l.trim().is_empty() => continue,
-            Some((_, l)) => break l.split(',').count(),
-            None => bail!("{}: empty file (a header line is expected)", path.display()),
-        }
+/// Checks the hyperparameter flags, naming the flag of a bad value.
+fn check_hyperparameters(o: &PredictOptions) -> Result<()> {
+    let flag = |name: &str, v: f64, check: fn(f64) -> Result<f64, String>| {
+        check(v).map_err(|e| anyhow::anyhow!("--{name} {}: {e}", show(v)))
     };
-    let mut values = Vec::new();
-    let mut rows = 0;
-    for (ln, line) in lines {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let mut count = 0;
-        for field in line.split(',') {
-            count += 1;
-            if count > cols {
-                break;
-            }
-            let f = field.trim();
-            let v: f64 = f.parse().map_err(|_| {
-                anyhow::anyhow!(
-                    "{}: line {}: field {count} {f:?} is not a number",
-                    path.display(),
-                    ln + 1
-                )
-            })?;
-            if !v.is_finite() {
-                bail!(
-                    "{}: line {}: field {count} is {f} (finite numbers only)",
-                    path.display(),
-                    ln + 1
-                );
-            }
-            values.push(v);
-        }
-        let total = line.split(',').count();
-        if total != cols {
-            bail!(
-                "{}: line {}: {total} columns, the header has {cols}",
-                path.display(),
-                ln + 1
-            );
-        }
-        rows += 1;
+    flag("lengthscale", o.lengthscale, check_positive)?;
+    flag("signal-variance", o.signal_variance, check_positive)?;
+    flag("noise-variance", o.noise_variance, check_non_negative)?;
+    if !o.prior_mean.is_finite() {
+        bail!(
+            "--prior-mean {}: must be a finite number",
+            show(o.prior_mean)
+        );
     }
-    Ok(Table { cols, rows, values })
+    Ok(())
 }
 
 /// Runs `strider gp predict`.
@@ -123,7 +88,16 @@ pub fn predict(a: &PredictArgs) -> Result<()> {
 
 fn predict_with(o: &PredictOptions) -> Result<()> {
     let kind = parse_kernel(o.kernel)?;
+    check_hyperparameters(o)?;
     let train = read_table(o.train)?;
+    if train.rows > MAX_TRAIN_ROWS {
+        bail!(
+            "{}: {} training rows, more than an exact GP fit takes ({MAX_TRAIN_ROWS}, \
+             MAX_TRAIN_ROWS: an n × n factor and O(n³) time): subsample the training data",
+            o.train.display(),
+            train.rows
+        );
+    }
     let query = read_table(o.query)?;
     if train.cols < 2 {
         bail!(
@@ -182,4 +156,75 @@ fn predict_with(o: &PredictOptions) -> Result<()> {
         fs::write(t, format!("{j}\n")).with_context(|| format!("cannot write {}", t.display()))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn options<'a>(train: &'a Path, query: &'a Path, out: &'a Path) -> PredictOptions<'a> {
+        PredictOptions {
+            train,
+            query,
+            kernel: "se",
+            lengthscale: 0.4,
+            signal_variance: 1.0,
+            noise_variance: 0.25,
+            prior_mean: 0.0,
+            out,
+            timing_json: None,
+        }
+    }
+
+    #[test]
+    fn training_sets_beyond_the_exact_fit_limit_are_refused_before_fitting() {
+        let dir = std::env::temp_dir().join(format!("strider-gp-rows-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let (train, query, out) = (dir.join("t.csv"), dir.join("q.csv"), dir.join("o.csv"));
+        let rows: String = (0..=MAX_TRAIN_ROWS).map(|i| format!("{i},1\n")).collect();
+        fs::write(&train, format!("x,y\n{rows}")).unwrap();
+        fs::write(&query, "x\n0.5\n").unwrap();
+        let e = format!(
+            "{:#}",
+            predict_with(&options(&train, &query, &out)).unwrap_err()
+        );
+        assert!(
+            e.ends_with(
+                "t.csv: 10001 training rows, more than an exact GP fit takes (10000, \
+                 MAX_TRAIN_ROWS: an n × n factor and O(n³) time): subsample the training data"
+            ),
+            "{e}"
+        );
+        assert!(!out.exists());
+        let _ = fs::remove_dir_all(dir);
+    }
+
+    #[test]
+    fn hyperparameters_out_of_range_name_the_flag() {
+        let p = Path::new("unused.csv");
+        let mut o = options(p, p, p);
+        o.lengthscale = -1.0;
+        assert_eq!(
+            check_hyperparameters(&o).unwrap_err().to_string(),
+            "--lengthscale -1: must be a finite number > 0"
+        );
+        o.lengthscale = 1.0;
+        o.signal_variance = f64::NAN;
+        assert_eq!(
+            check_hyperparameters(&o).unwrap_err().to_string(),
+            "--signal-variance NaN: must be a finite number > 0"
+        );
+        o.signal_variance = 1.0;
+        o.noise_variance = -0.5;
+        assert_eq!(
+            check_hyperparameters(&o).unwrap_err().to_string(),
+            "--noise-variance -0.5: must be a finite number ≥ 0"
+        );
+        o.noise_variance = 0.0;
+        o.prior_mean = f64::INFINITY;
+        assert_eq!(
+            check_hyperparameters(&o).unwrap_err().to_string(),
+            "--prior-mean inf: must be a finite number"
+        );
+    }
 }

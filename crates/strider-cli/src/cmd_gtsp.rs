@@ -7,11 +7,12 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use serde_json::json;
 use strider_plan::tsplib::read_instance_file;
-use strider_plan::{Instance, Mode, Solution, SolverParams};
+use strider_plan::{Instance, Mode, Solution, SolverParams, TsplibError};
 
 use strider_experiments::stats;
 
 use crate::args::{GtspBenchArgs, SolveArgs};
+use crate::ranges::{MAX_RUNS, check_count, check_time_limit, show};
 
 /// Parses a solver mode name.
 fn parse_mode(s: &str) -> Result<Mode> {
@@ -24,9 +25,8 @@ fn parse_mode(s: &str) -> Result<Mode> {
 }
 
 fn params(time_limit: f64, seed: u64, mode: Mode) -> Result<SolverParams> {
-    if !(time_limit.is_finite() && time_limit > 0.0) {
-        bail!("--time-limit must be a positive number of seconds, got {time_limit}");
-    }
+    check_time_limit(time_limit)
+        .map_err(|e| anyhow::anyhow!("--time-limit {}: {e}", show(time_limit)))?;
     Ok(SolverParams {
         mode,
         time_limit_s: time_limit,
@@ -38,7 +38,7 @@ fn params(time_limit: f64, seed: u64, mode: Mode) -> Result<SolverParams> {
 /// Reads an instance; parse errors (which carry the line) are prefixed with the file.
 fn read_instance(path: &Path) -> Result<Instance> {
     read_instance_file(path).map_err(|e| match e {
-        strider_plan::TsplibError::Io { .. } => anyhow::Error::new(e),
+        TsplibError::Io { .. } | TsplibError::FileTooLarge { .. } => anyhow::Error::new(e),
         e => anyhow::Error::new(e).context(path.display().to_string()),
     })
 }
@@ -136,6 +136,14 @@ fn references(dir: &Path) -> Result<Vec<Reference>> {
         }
         let count: usize = f[1].trim().parse().with_context(bad)?;
         let best_known: i64 = f[3].trim().parse().with_context(bad)?;
+        if best_known <= 0 {
+            // Gaps are relative to it.
+            bail!(
+                "{}:{}: best value {best_known} must be > 0",
+                csv.display(),
+                ln + 1
+            );
+        }
         let name = f[0].trim().to_string();
         let file = if tsp {
             format!("{name}.tsp")
@@ -157,7 +165,7 @@ fn references(dir: &Path) -> Result<Vec<Reference>> {
 struct BenchOptions {
     /// Time limit per run, seconds.
     pub time_limit: f64,
-    /// Runs per instance (seeds seed, seed+1, …).
+    /// Runs per instance (seeds seed, seed+1, …, wrapping after 2⁶⁴−1).
     pub runs: usize,
     /// First seed.
     pub seed: u64,
@@ -183,8 +191,15 @@ pub fn bench(a: &GtspBenchArgs) -> Result<()> {
 }
 
 fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()> {
-    if o.runs == 0 {
-        bail!("--runs must be at least 1");
+    check_count(o.runs, 1, MAX_RUNS).map_err(|e| anyhow::anyhow!("--runs {}: {e}", o.runs))?;
+    let tl = o.time_limit;
+    check_time_limit(tl).map_err(|e| anyhow::anyhow!("--time-limit {}: {e}", show(tl)))?;
+    if o.min_sets > o.max_sets {
+        bail!(
+            "--min-sets {} is more than --max-sets {}: no instance can match",
+            o.min_sets,
+            o.max_sets
+        );
     }
     let refs = references(dir)?;
     println!(
@@ -203,7 +218,7 @@ fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
         for k in 0..o.runs {
             let sol = solve_checked(
                 &inst,
-                &params(o.time_limit, o.seed + k as u64, o.mode)?,
+                &params(o.time_limit, o.seed.wrapping_add(k as u64), o.mode)?,
                 &path,
             )?;
             run_gaps.push(100.0 * (sol.cost - r.best_known) as f64 / r.best_known as f64);
@@ -247,4 +262,92 @@ fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
             .with_context(|| format!("{}: cannot write", out.display()))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A folder with one 10-vertex, 2-set instance and a best-known table.
+    fn bench_folder(name: &str, best_known: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("strider-gtsp-{name}-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let mut g = String::from(
+            "NAME: g\nTYPE: GTSP\nDIMENSION: 4\nGTSP_SETS: 2\nEDGE_WEIGHT_TYPE: EUC_2D\n\
+             NODE_COORD_SECTION\n1 0 0\n2 3 4\n3 1 1\n4 0 2.5\n",
+        );
+        g.push_str("GTSP_SET_SECTION\n1 1 2 -1\n2 3 4 -1\nEOF\n");
+        fs::write(dir.join("g.gtsp"), g).unwrap();
+        fs::write(
+            dir.join("best_known.csv"),
+            format!("instance,sets,vertices,best_known\ng,2,4,{best_known}\n"),
+        )
+        .unwrap();
+        dir
+    }
+
+    fn options(runs: usize, seed: u64, min_sets: usize, max_sets: usize) -> BenchOptions {
+        BenchOptions {
+            time_limit: 0.01,
+            runs,
+            seed,
+            mode: Mode::Fast,
+            min_sets,
+            max_sets,
+        }
+    }
+
+    fn bench_err(dir: &Path, o: &BenchOptions) -> String {
+        format!("{:#}", bench_dir(dir, o, None).unwrap_err())
+    }
+
+    #[test]
+    fn bench_counts_and_bounds_are_checked() {
+        let dir = bench_folder("counts", "2");
+        assert_eq!(
+            bench_err(&dir, &options(usize::MAX, 1, 0, usize::MAX)),
+            format!("--runs {}: must be an integer from 1 to 1000", usize::MAX)
+        );
+        assert_eq!(
+            bench_err(&dir, &options(0, 1, 0, usize::MAX)),
+            "--runs 0: must be an integer from 1 to 1000"
+        );
+        assert_eq!(
+            bench_err(&dir, &options(1, 1, 5, 1)),
+            "--min-sets 5 is more than --max-sets 1: no instance can match"
+        );
+        // Seeds wrap instead of overflowing.
+        assert!(bench_dir(&dir, &options(2, u64::MAX, 0, usize::MAX), None).is_ok());
+        let _ = fs::remove_dir_all(dir);
+    }
+
+    #[test]
+    fn a_best_known_value_that_is_not_positive_is_refused() {
+        let dir = bench_folder("best0", "0");
+        let e = bench_err(&dir, &options(1, 1, 0, usize::MAX));
+        assert!(
+            e.ends_with("best_known.csv:2: best value 0 must be > 0"),
+            "{e}"
+        );
+        let _ = fs::remove_dir_all(dir);
+    }
+
+    #[test]
+    fn time_limits_out_of_range_name_the_flag() {
+        for (t, shown) in [
+            (-1.0, "-1"),
+            (0.0, "0"),
+            (f64::NAN, "NaN"),
+            (1e300, "1e300"),
+        ] {
+            let e = params(t, 1, Mode::Fast).unwrap_err().to_string();
+            assert_eq!(
+                e,
+                format!(
+                    "--time-limit {shown}: must be a finite number of seconds > 0 and ≤ 604800 \
+                     (one week)"
+                )
+            );
+        }
+    }
 }

@@ -13,6 +13,7 @@ mod cmd_run;
 mod cmd_scenario;
 mod cmd_strategies;
 mod progress;
+mod ranges;
 
 use std::process::ExitCode;
 

@@ -15,6 +15,7 @@
 //!   and cost of transport (Prágr18, MartinCorke), stuck detection (decision 9).
 //! * [`gp`]: exact GP regression with O(n²) insert/remove of training points (Prágr22 Eq. 14–16,
 //!   21; decisions 12–14).
+//! * [`gp_csv`]: numeric CSV tables for GP regression from files, with size limits.
 //! * [`rbcm`]: the robust Bayesian committee machine of GP experts (Prágr19 Eq. 7–9, decision 15).
 //! * [`igng`]: incremental growing neural gas terrain classes (Prágr22 Alg. 11, decision 17).
 //! * [`morphology`]: class erosion and dilation (Prágr22 Eq. 25–26, decision 18).
@@ -29,6 +30,7 @@ pub mod bench;
 pub mod cost_model;
 pub mod descriptor_field;
 pub mod gp;
+pub mod gp_csv;
 pub mod igmn;
 pub mod igng;
 pub mod mixture;

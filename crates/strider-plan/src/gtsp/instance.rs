@@ -4,6 +4,12 @@ use std::fmt;
 
 use thiserror::Error;
 
+/// Largest tour cost the solver works with: `i64::MAX / 8` (≈ 1.15·10¹⁸). Every tour of an
+/// instance whose vertex count times its largest arc cost stays below it has a representable
+/// cost, and the solver's move evaluations (sums and differences of a few tour-length terms)
+/// keep a factor of 8 of headroom. [`Instance::check_costs`] enforces it.
+pub const MAX_TOUR_COST: i64 = i64::MAX / 8;
+
 /// Dense row-major integer cost matrix: `get(i, j)` is the cost of going
 /// from vertex `i` to vertex `j`.
 #[derive(Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -60,10 +66,59 @@ impl CostMatrix {
         &self.data[i * self.n..(i + 1) * self.n]
     }
 
+    /// The arc `(i, j)`, `i != j`, with the largest absolute cost, or `None` for fewer than two
+    /// vertices. The diagonal is never part of a g-tour and is ignored.
+    pub fn largest_arc(&self) -> Option<(usize, usize, i64)> {
+        let mut best: Option<(usize, usize, i64)> = None;
+        for i in 0..self.n {
+            for (j, &c) in self.row(i).iter().enumerate() {
+                if i != j && best.is_none_or(|b| c.unsigned_abs() > b.2.unsigned_abs()) {
+                    best = Some((i, j, c));
+                }
+            }
+        }
+        best
+    }
+
     /// True if `get(i, j) == get(j, i)` for all pairs.
     pub fn is_symmetric(&self) -> bool {
-        (0..self.n).all(|i| (0..i).all(|j| self.get(i, j) == self.get(j, i)))
+        is_symmetric(&self.data, self.n)
     }
+}
+
+/// Tile side of [`is_symmetric`] and [`transpose`]: two 64 × 64 tiles of `i64` (64 KiB) stay
+/// in cache, where a plain column walk of a large matrix misses it on every element.
+const TILE: usize = 64;
+
+/// True if the row-major n × n matrix `d` equals its transpose.
+pub(crate) fn is_symmetric(d: &[i64], n: usize) -> bool {
+    for bi in (0..n).step_by(TILE) {
+        for bj in (0..=bi).step_by(TILE) {
+            for i in bi..(bi + TILE).min(n) {
+                for j in bj..(bj + TILE).min(i) {
+                    if d[i * n + j] != d[j * n + i] {
+                        return false;
+                    }
+                }
+            }
+        }
+    }
+    true
+}
+
+/// The transpose of the row-major n × n matrix `d`.
+pub(crate) fn transpose(d: &[i64], n: usize) -> Vec<i64> {
+    let mut t = vec![0i64; n * n];
+    for bi in (0..n).step_by(TILE) {
+        for bj in (0..n).step_by(TILE) {
+            for i in bi..(bi + TILE).min(n) {
+                for j in bj..(bj + TILE).min(n) {
+                    t[j * n + i] = d[i * n + j];
+                }
+            }
+        }
+    }
+    t
 }
 
 /// A (G)TSP instance: `n` vertices, a partition (or sub-partition) of them
@@ -122,6 +177,23 @@ pub enum InstanceError {
     VertexInNoSet {
         /// The vertex.
         vertex: usize,
+    },
+    /// Arc costs so large that a tour's cost could overflow.
+    #[error(
+        "arc {from} -> {to} costs {cost}; with {n} vertices a tour could cost up to {n} × {cost}, \
+         more than the limit {limit} (MAX_TOUR_COST): scale the costs down"
+    )]
+    CostTooLarge {
+        /// 0-based tail of the most expensive arc.
+        from: usize,
+        /// 0-based head.
+        to: usize,
+        /// Its cost.
+        cost: i64,
+        /// Number of vertices.
+        n: usize,
+        /// [`MAX_TOUR_COST`].
+        limit: i64,
     },
     /// A tour visits a set twice or misses one.
     #[error("tour is infeasible: {0}")]
@@ -188,18 +260,41 @@ impl Instance {
         owner
     }
 
+    /// Checks that no tour can overflow: the vertex count times the largest arc cost (in
+    /// absolute value) must not exceed [`MAX_TOUR_COST`].
+    pub fn check_costs(&self) -> Result<(), InstanceError> {
+        let Some((from, to, cost)) = self.dist.largest_arc() else {
+            return Ok(());
+        };
+        let worst = (self.n as u128).saturating_mul(u128::from(cost.unsigned_abs()));
+        if worst > MAX_TOUR_COST as u128 {
+            return Err(InstanceError::CostTooLarge {
+                from,
+                to,
+                cost,
+                n: self.n,
+                limit: MAX_TOUR_COST,
+            });
+        }
+        Ok(())
+    }
+
     /// Cost of the closed tour `tour[0] -> tour[1] -> ... -> tour[0]`
-    /// (0 for fewer than two vertices).
+    /// (0 for fewer than two vertices). Saturates at `i64::MIN` / `i64::MAX`, which no tour of
+    /// an instance that passes [`Instance::check_costs`] reaches.
     pub fn tour_cost(&self, tour: &[usize]) -> i64 {
         if tour.len() < 2 {
             return 0;
         }
-        self.path_cost(tour) + self.dist.get(tour[tour.len() - 1], tour[0])
+        self.path_cost(tour)
+            .saturating_add(self.dist.get(tour[tour.len() - 1], tour[0]))
     }
 
-    /// Cost of the open path `tour[0] -> ... -> tour[last]`.
+    /// Cost of the open path `tour[0] -> ... -> tour[last]`; saturates as
+    /// [`Instance::tour_cost`].
     pub fn path_cost(&self, tour: &[usize]) -> i64 {
-        tour.windows(2).map(|w| self.dist.get(w[0], w[1])).sum()
+        tour.windows(2)
+            .fold(0i64, |c, w| c.saturating_add(self.dist.get(w[0], w[1])))
     }
 
     /// Checks that `tour` visits exactly one vertex of every set.

@@ -124,6 +124,10 @@ impl<'a> Search<'a> {
         let mut ops = Operators::default();
         let mut ls = LocalSearch::new(p.m);
         ls.nn = settings.ls_nn;
+        // No deadline for an infinite or unrepresentable limit.
+        ls.stop_at = std::time::Duration::try_from_secs_f64(time_limit_s)
+            .ok()
+            .and_then(|d| start.checked_add(d));
         ops.insert_nn = settings.insert_nn;
         Search {
             p,

@@ -47,9 +47,10 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-pub use instance::{CostMatrix, Instance, InstanceError};
+pub use instance::{CostMatrix, Instance, InstanceError, MAX_TOUR_COST};
 pub use parameter_defaults::{Mode, SolverParams};
 
+use crate::memory::{self, MemoryError};
 use parameter_defaults::Settings;
 use problem::Problem;
 
@@ -94,14 +95,62 @@ pub enum SolveError {
     /// A set is empty.
     #[error("set {0} is empty")]
     EmptySet(usize),
+    /// A solver parameter out of its range.
+    #[error("{0}")]
+    BadParameter(String),
+    /// Arc costs whose tour sums could overflow.
+    #[error(transparent)]
+    Costs(InstanceError),
+    /// The solver's dense tables would not fit in memory.
+    #[error(transparent)]
+    TooLarge(MemoryError),
+}
+
+/// Checks what [`solve`] needs of its input before it allocates anything.
+fn check_input(instance: &Instance, params: &SolverParams) -> Result<(), SolveError> {
+    // `!(x > 0)` also refuses NaN; +inf means "no time limit" (the iteration limits end the run).
+    if !(params.time_limit_s > 0.0) {
+        return Err(SolveError::BadParameter(format!(
+            "time_limit_s = {}: must be a number of seconds > 0",
+            params.time_limit_s
+        )));
+    }
+    if let Some(s) = instance.sets.iter().position(|s| s.is_empty()) {
+        return Err(SolveError::EmptySet(s));
+    }
+    if let Some(v) = instance.sets.iter().flatten().find(|&&v| v >= instance.n) {
+        return Err(SolveError::VertexOutOfRange {
+            vertex: *v,
+            n: instance.n,
+        });
+    }
+    if instance.dist.n() != instance.n {
+        return Err(SolveError::Costs(InstanceError::MatrixSize {
+            expected: instance.n,
+            got: instance.dist.n(),
+        }));
+    }
+    memory::check(
+        Problem::estimate_bytes(instance),
+        &format!(
+            "solving {} sets over {} vertices (dense vertex and set tables)",
+            instance.sets.len(),
+            instance.n
+        ),
+        &format!(
+            "the solver's tables grow with the square of the vertex count: use at most about \
+             {} vertices",
+            (memory::MEMORY_LIMIT_BYTES / 28).isqrt()
+        ),
+    )
+    .map_err(SolveError::TooLarge)?;
+    instance.check_costs().map_err(SolveError::Costs)
 }
 
 /// Solves the GTSP instance. See the module docs.
 pub fn solve(instance: &Instance, params: &SolverParams) -> Result<Solution, SolveError> {
     let start = Instant::now();
-    if let Some(s) = instance.sets.iter().position(|s| s.is_empty()) {
-        return Err(SolveError::EmptySet(s));
-    }
+    check_input(instance, params)?;
     let anchor = params.open.or(params.fixed_start);
     if let Some(a) = anchor {
         if a >= instance.n {

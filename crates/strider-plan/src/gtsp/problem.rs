@@ -12,7 +12,9 @@
 //!   from `s` in the original one;
 //! * `fixed_start = Some(s)`: the set of `s` is reduced to `{s}`.
 
-use super::instance::Instance;
+use rayon::prelude::*;
+
+use super::instance::{Instance, is_symmetric, transpose};
 
 pub(crate) struct Problem {
     /// Number of sets.
@@ -42,6 +44,20 @@ pub(crate) struct Problem {
 }
 
 impl Problem {
+    /// Bytes of the tables [`Problem::new`] allocates for `inst` (`None` on overflow): the
+    /// renumbered matrix and its transpose (8 bytes per vertex pair each), the set-to-set
+    /// distances (8 bytes per set pair) and neighbour lists (4 bytes per set pair).
+    pub fn estimate_bytes(inst: &Instance) -> Option<u64> {
+        let nv = inst
+            .sets
+            .iter()
+            .try_fold(0u64, |a, s| a.checked_add(s.len() as u64))?;
+        let m = inst.sets.len() as u64;
+        let vertex_tables = nv.checked_mul(nv)?.checked_mul(16)?;
+        let set_tables = m.checked_mul(m)?.checked_mul(12)?;
+        vertex_tables.checked_add(set_tables)
+    }
+
     /// Builds the internal problem. `anchor` is the original vertex that is
     /// fixed (its set reduced to it), and `open` zeroes the arcs into it.
     pub fn new(inst: &Instance, anchor: Option<usize>, open: bool) -> Self {
@@ -80,17 +96,11 @@ impl Problem {
                 d[i * nv + a as usize] = 0;
             }
         }
-        let symmetric = (0..nv).all(|i| (0..i).all(|j| d[i * nv + j] == d[j * nv + i]));
+        let symmetric = is_symmetric(&d, nv);
         let dt = if symmetric {
             Vec::new()
         } else {
-            let mut t = vec![0i64; nv * nv];
-            for i in 0..nv {
-                for j in 0..nv {
-                    t[j * nv + i] = d[i * nv + j];
-                }
-            }
-            t
+            transpose(&d, nv)
         };
         let mut p = Self {
             m,
@@ -126,12 +136,19 @@ impl Problem {
                 sd[b * m + a] = best;
             }
         }
-        let mut nbrs = Vec::with_capacity(m);
-        for a in 0..m {
-            let mut l: Vec<u32> = (0..m as u32).filter(|&b| b as usize != a).collect();
-            l.sort_by_key(|&b| (sd[a * m + b as usize], b));
-            nbrs.push(l);
-        }
+        // Keys (distance, set) are distinct, so the unstable sort gives the one order.
+        let nbrs = (0..m)
+            .into_par_iter()
+            .map(|a| {
+                let row = &sd[a * m..(a + 1) * m];
+                let mut keyed: Vec<(i64, u32)> = (0..m as u32)
+                    .filter(|&b| b as usize != a)
+                    .map(|b| (row[b as usize], b))
+                    .collect();
+                keyed.sort_unstable();
+                keyed.into_iter().map(|(_, b)| b).collect()
+            })
+            .collect();
         self.set_dist = sd;
         self.set_nbrs = nbrs;
     }
@@ -194,5 +211,30 @@ impl Problem {
             c += self.d(w[0], w[1]);
         }
         c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gtsp::CostMatrix;
+    use crate::memory;
+
+    #[test]
+    fn the_estimate_counts_vertex_and_set_tables_and_is_checked() {
+        let n = 30_000usize;
+        // Only the sets matter to the estimate; no 30 000² matrix is built.
+        let inst = Instance {
+            name: "big".into(),
+            n,
+            sets: (0..n).map(|v| vec![v]).collect(),
+            dist: CostMatrix::from_fn(0, |_, _| 0),
+            symmetric: true,
+        };
+        let nn = (n * n) as u64;
+        assert_eq!(Problem::estimate_bytes(&inst), Some(nn * 16 + nn * 12));
+        let e = memory::check(Problem::estimate_bytes(&inst), "solving", "use fewer").unwrap_err();
+        assert_eq!(e.needed, nn * 28);
+        assert_eq!(e.limit, memory::MEMORY_LIMIT_BYTES);
     }
 }

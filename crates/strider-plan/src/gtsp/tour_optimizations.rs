@@ -23,6 +23,8 @@
 //!
 //! The two are alternated until cluster optimisation finds nothing.
 
+use std::time::Instant;
+
 use super::problem::Problem;
 
 /// Shortest-path cluster optimisation with reusable buffers.
@@ -123,7 +125,13 @@ pub(crate) struct LocalSearch {
     pub two_opt: bool,
     /// Neighbour-list length (number of nearest sets tried per move).
     pub nn: usize,
+    /// The run's deadline: the set-order moves stop there (the tour stays feasible), so that a
+    /// first local search on a large random tour cannot outlast the time limit.
+    pub stop_at: Option<Instant>,
 }
+
+/// Queue pops between two looks at the clock.
+const CLOCK_EVERY: usize = 256;
 
 impl LocalSearch {
     pub fn new(m: usize) -> Self {
@@ -191,10 +199,18 @@ impl LocalSearch {
             }
         }
         let mut rounds = 0;
+        let mut pops = 0usize;
         loop {
             self.refresh(p, tour);
             while let Some(s) = self.queue.pop() {
                 self.queued[s as usize] = false;
+                pops += 1;
+                if pops.is_multiple_of(CLOCK_EVERY) && self.out_of_time() {
+                    for s in self.queue.drain(..) {
+                        self.queued[s as usize] = false;
+                    }
+                    return cost;
+                }
                 let i = self.pos[s as usize] as usize;
                 if let Some(delta) = self.improve_at(p, tour, i) {
                     debug_assert!(delta < 0);
@@ -226,6 +242,10 @@ impl LocalSearch {
                 }
             }
         }
+    }
+
+    fn out_of_time(&self) -> bool {
+        self.stop_at.is_some_and(|t| Instant::now() >= t)
     }
 
     /// Tries the moves at position `i`; applies the first improving one.

@@ -2,6 +2,7 @@
 //! `GTSP_SETS`, `EDGE_WEIGHT_TYPE` and `EDGE_WEIGHT_FORMAT`.
 
 use super::TsplibError;
+use crate::memory;
 
 /// `EDGE_WEIGHT_TYPE`: a distance computed from coordinates, or explicit weights.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -26,6 +27,17 @@ impl WeightType {
         })
     }
 
+    /// The TSPLIB name.
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            WeightType::Euc2d => "EUC_2D",
+            WeightType::Ceil2d => "CEIL_2D",
+            WeightType::Geo => "GEO",
+            WeightType::Att => "ATT",
+            WeightType::Explicit => "EXPLICIT",
+        }
+    }
+
     /// The value of an `EDGE_WEIGHT_TYPE` line.
     pub(super) fn parse(value: &str, line: usize) -> Result<WeightType, TsplibError> {
         WeightType::from_name(value).ok_or_else(|| TsplibError::Unsupported {
@@ -48,6 +60,18 @@ pub(super) enum WeightFormat {
 }
 
 impl WeightFormat {
+    /// The TSPLIB name (of the `*_ROW` variant).
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            WeightFormat::Function => "FUNCTION",
+            WeightFormat::Full => "FULL_MATRIX",
+            WeightFormat::UpperRow => "UPPER_ROW",
+            WeightFormat::LowerRow => "LOWER_ROW",
+            WeightFormat::UpperDiagRow => "UPPER_DIAG_ROW",
+            WeightFormat::LowerDiagRow => "LOWER_DIAG_ROW",
+        }
+    }
+
     /// The value of an `EDGE_WEIGHT_FORMAT` line.
     pub(super) fn parse(value: &str, line: usize) -> Result<WeightFormat, TsplibError> {
         Ok(match value {
@@ -81,10 +105,32 @@ pub(super) fn split_header(line: &str) -> (&str, &str) {
 
 fn parse_usize(value: &str, line: usize, what: &str) -> Result<usize, TsplibError> {
     let tok = value.split_whitespace().next().unwrap_or("");
-    tok.parse::<usize>().map_err(|_| TsplibError::BadDimension {
+    tok.parse::<usize>().map_err(|e| TsplibError::BadDimension {
         line,
-        msg: format!("{what} '{value}' is not a non-negative integer"),
+        msg: match e.kind() {
+            std::num::IntErrorKind::PosOverflow => {
+                format!("{what} {tok} is too large (at most {})", usize::MAX)
+            }
+            _ => format!("{what} '{value}' is not a non-negative integer"),
+        },
     })
+}
+
+/// Checks, when `DIMENSION` is read, that the n × n cost matrix every instance becomes fits
+/// the memory budget, so that no section allocates for a size the reader would refuse.
+pub(super) fn check_matrix_size(n: usize, line: usize) -> Result<(), TsplibError> {
+    let bytes = (n as u64)
+        .checked_mul(n as u64)
+        .and_then(|c| memory::bytes_of(c, 8));
+    let max_n = (memory::MEMORY_LIMIT_BYTES / 8).isqrt();
+    memory::check(
+        bytes,
+        &format!("DIMENSION {n}: a {n} × {n} cost matrix"),
+        &format!(
+            "the solver keeps dense cost matrices: use an instance of at most {max_n} vertices"
+        ),
+    )
+    .map_err(|source| TsplibError::TooLarge { line, source })
 }
 
 /// A positive count (`DIMENSION`, `GTSP_SETS`; `what` names it in errors).

@@ -27,120 +27,75 @@
 //! is set to 0 (GTSPLIB's asymmetric files store a large sentinel there; a
 //! g-tour never uses it).
 //!
-//! Files: `lexer` (the line and token cursor), `header` (header lines and their values),
+//! Bad input of any kind (sizes beyond [`crate::MEMORY_LIMIT_BYTES`], costs whose tour sums
+//! could pass [`crate::MAX_TOUR_COST`], negative off-diagonal weights, stray values, bytes that
+//! are not UTF-8) is a [`TsplibError`] naming the line; the readers never panic.
+//!
+//! Files: `error` (the error type), `lexer` (the line and token cursor), `header` (header lines
+//! and their values),
 //! `sections` (coordinates, edge weights, sets), `distance` (TSPLIB's distance functions). The
 //! instance they produce is the solver's [`Instance`], re-exported here.
 
 mod distance;
+mod error;
 mod header;
 mod lexer;
 mod sections;
 
+use std::io::Read;
 use std::path::Path;
-
-use thiserror::Error;
 
 pub use crate::gtsp::{CostMatrix, Instance, InstanceError};
 pub use distance::tsplib_distance;
+pub use error::TsplibError;
 
-use header::{WeightFormat, WeightType, check_type, positive_count, split_header};
-use lexer::Lexer;
+use header::{
+    WeightFormat, WeightType, check_matrix_size, check_type, positive_count, split_header,
+};
+use lexer::{Lexer, looks_numeric};
 
-/// Errors of the TSPLIB reader. Line numbers are 1-based; vertex and set
-/// numbers are the file's (1-based) numbers.
-#[derive(Debug, Error)]
-pub enum TsplibError {
-    /// The file could not be read.
-    #[error("cannot read {path}: {source}")]
-    Io {
-        /// The path.
-        path: String,
-        /// The I/O error.
-        source: std::io::Error,
-    },
-    /// Malformed line or value.
-    #[error("line {line}: {msg}")]
-    Syntax {
-        /// Line number.
-        line: usize,
-        /// What is wrong.
-        msg: String,
-    },
-    /// A section ended (end of file or next keyword) before all its values.
-    #[error("line {line}: {section} is truncated: expected {expected} values, found {found}")]
-    Truncated {
-        /// Line where the data stopped.
-        line: usize,
-        /// The section.
-        section: String,
-        /// Number of values expected.
-        expected: usize,
-        /// Number of values found.
-        found: usize,
-    },
-    /// `DIMENSION` or `GTSP_SETS` missing, zero, or inconsistent.
-    #[error("line {line}: bad dimension: {msg}")]
-    BadDimension {
-        /// Line number.
-        line: usize,
-        /// What is wrong.
-        msg: String,
-    },
-    /// A set of `GTSP_SET_SECTION` has no vertex.
-    #[error("line {line}: set {set} has no vertex")]
-    EmptySet {
-        /// Line number.
-        line: usize,
-        /// 1-based set id.
-        set: usize,
-    },
-    /// A vertex is listed in two sets.
-    #[error("line {line}: vertex {vertex} is in set {first} and in set {second}")]
-    VertexInTwoSets {
-        /// Line number of the second occurrence.
-        line: usize,
-        /// 1-based vertex.
-        vertex: usize,
-        /// 1-based first set.
-        first: usize,
-        /// 1-based second set.
-        second: usize,
-    },
-    /// A vertex is in no set.
-    #[error("line {line}: vertex {vertex} is in no set")]
-    VertexInNoSet {
-        /// Line of the `GTSP_SET_SECTION` keyword.
-        line: usize,
-        /// 1-based vertex.
-        vertex: usize,
-    },
-    /// A keyword value this reader does not support.
-    #[error("line {line}: unsupported {what}")]
-    Unsupported {
-        /// Line number.
-        line: usize,
-        /// What is unsupported.
-        what: String,
-    },
-    /// A required header or section is missing.
-    #[error("line {line}: missing {what}")]
-    Missing {
-        /// Line number (end of file).
-        line: usize,
-        /// What is missing.
-        what: String,
-    },
+/// Largest instance or tour file the reader reads: 2 GiB. The reader holds the whole text
+/// and the matrix at once; the largest explicit matrix the solver takes (about 12 000
+/// vertices, see [`crate::MEMORY_LIMIT_BYTES`]) is about 1 GB of text.
+pub const MAX_FILE_BYTES: u64 = 2 << 30;
+
+/// Reads a file of at most [`MAX_FILE_BYTES`].
+fn read_bytes(path: &Path) -> Result<Vec<u8>, TsplibError> {
+    let io = |source| TsplibError::Io {
+        path: path.display().to_string(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        let size = std::fs::metadata(path).map_or(MAX_FILE_BYTES + 1, |m| m.len());
+        return Err(TsplibError::FileTooLarge {
+            path: path.display().to_string(),
+            bytes: size,
+            limit: MAX_FILE_BYTES,
+        });
+    }
+    Ok(bytes)
+}
+
+/// The text of `bytes`, or the line and column of the first byte that is not UTF-8.
+fn utf8(bytes: &[u8]) -> Result<&str, TsplibError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let good = &bytes[..e.valid_up_to()];
+        let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
+        let column = good.len() - good.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1) + 1;
+        TsplibError::NotUtf8 { line, column }
+    })
 }
 
 /// Reads an instance file from disk. The instance name defaults to the file
 /// stem when the file has no `NAME`.
 pub fn read_instance_file(path: impl AsRef<Path>) -> Result<Instance, TsplibError> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|source| TsplibError::Io {
-        path: path.display().to_string(),
-        source,
-    })?;
-    let mut inst = parse_instance(&text)?;
+    let mut inst = parse_bytes(&read_bytes(path)?)?;
     if inst.name.is_empty() {
         inst.name = path
             .file_stem()
@@ -150,24 +105,27 @@ pub fn read_instance_file(path: impl AsRef<Path>) -> Result<Instance, TsplibErro
     Ok(inst)
 }
 
-/// Parses a TSPLIB / GTSPLIB (or GLNS compact) instance from text.
+/// Parses an instance from raw bytes (which must be UTF-8). Never panics; every bad input is a
+/// [`TsplibError`].
+pub fn parse_bytes(bytes: &[u8]) -> Result<Instance, TsplibError> {
+    parse_instance(utf8(bytes)?)
+}
+
+/// Parses a TSPLIB / GTSPLIB (or GLNS compact) instance from text. A leading UTF-8 byte-order
+/// mark is skipped. Never panics; every bad input is a [`TsplibError`].
 pub fn parse_instance(text: &str) -> Result<Instance, TsplibError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut lx = Lexer::new(text);
     let mut file = InstanceFile::default();
     while let Some((l, line)) = lx.line() {
         let (key, value) = split_header(l);
+        let after = file.section_end.take();
         match key {
             "EOF" => break,
             "NAME" => file.name = value.to_string(),
             "COMMENT" | "NODE_COORD_TYPE" | "DISPLAY_DATA_TYPE" | "CAPACITY" => {}
             "TYPE" => check_type(value, line)?,
-            "DIMENSION" | "N" => {
-                let d = positive_count(value, line, "DIMENSION")?;
-                if key == "N" {
-                    file.compact = true;
-                }
-                file.dim = Some((d, line));
-            }
+            "DIMENSION" | "N" => file.set_dim(key, value, line)?,
             "GTSP_SETS" | "M" => {
                 let m = positive_count(value, line, "GTSP_SETS")?;
                 file.num_sets = Some((m, line));
@@ -176,35 +134,84 @@ pub fn parse_instance(text: &str) -> Result<Instance, TsplibError> {
                     let (sets, matrix) = sections::read_compact(&mut lx, n, m, line)?;
                     file.sets = Some((sets, line));
                     file.matrix = Some(matrix);
+                    file.ended(
+                        "matrix",
+                        n * n,
+                        "values",
+                        format!("N {n}: a {n} × {n} matrix"),
+                    );
                 }
             }
             "EDGE_WEIGHT_TYPE" => file.wtype = Some(WeightType::parse(value, line)?),
             "EDGE_WEIGHT_FORMAT" => file.wformat = Some(WeightFormat::parse(value, line)?),
             "NODE_COORD_SECTION" | "DISPLAY_DATA_SECTION" => {
                 let n = file.need_dim(line)?;
-                if let Some(c) = sections::read_coordinates(&mut lx, n, key)? {
+                if let Some(c) = sections::read_coordinates(&mut lx, n, key, line)? {
                     file.coords = Some(c);
                 }
+                let because = format!("DIMENSION {n}: 3 values per node");
+                file.ended(key, n.saturating_mul(3), "values", because);
             }
             "EDGE_WEIGHT_SECTION" => {
                 let n = file.need_dim(line)?;
                 let fmt = file.wformat.unwrap_or(WeightFormat::Full);
                 file.matrix = Some(sections::read_edge_weights(&mut lx, n, fmt, line)?);
+                let count = sections::weight_count(n, fmt).unwrap_or(usize::MAX);
+                file.ended(
+                    key,
+                    count,
+                    "values",
+                    format!("DIMENSION {n} in {}", fmt.name()),
+                );
             }
             "GTSP_SET_SECTION" => {
                 let n = file.need_dim(line)?;
                 let sets = sections::read_gtsp_sets(&mut lx, n, file.num_sets)?;
+                let because = format!("GTSP_SETS {}", sets.len());
+                file.ended(key, sets.len(), "sets", because);
                 file.sets = Some((sets, line));
             }
-            _ => {
-                return Err(TsplibError::Syntax {
-                    line,
-                    msg: format!("unknown keyword '{key}'"),
-                });
-            }
+            _ => return Err(unexpected_line(l, key, line, after)),
         }
     }
     file.into_instance(lx.last_line())
+}
+
+/// Where the last data section ended: what a stray value after it is reported against.
+struct SectionEnd {
+    section: String,
+    expected: usize,
+    unit: &'static str,
+    because: String,
+}
+
+/// The error of a line that is not a known keyword: an extra value when it follows a data
+/// section, else an unknown keyword or stray text.
+fn unexpected_line(l: &str, key: &str, line: usize, after: Option<SectionEnd>) -> TsplibError {
+    let first = l.split_whitespace().next().unwrap_or("");
+    if looks_numeric(l) {
+        return match after {
+            Some(e) => TsplibError::ExtraValues {
+                line,
+                value: first.to_string(),
+                section: e.section,
+                expected: e.expected,
+                unit: e.unit,
+                because: e.because,
+            },
+            None => TsplibError::Syntax {
+                line,
+                msg: format!("value '{first}' outside any section"),
+            },
+        };
+    }
+    let msg = if key.is_empty() {
+        let shown: String = l.chars().take(40).collect();
+        format!("unexpected text '{shown}' (not a TSPLIB keyword)")
+    } else {
+        format!("unknown keyword '{key}'")
+    };
+    TsplibError::Syntax { line, msg }
 }
 
 /// What an instance file has said so far; the lines of values are kept for errors.
@@ -223,9 +230,38 @@ struct InstanceFile {
     sets: Option<(Vec<Vec<usize>>, usize)>,
     /// GLNS's compact format (`N:` instead of `DIMENSION`).
     compact: bool,
+    /// The data section just read, if the last line was one.
+    section_end: Option<SectionEnd>,
 }
 
 impl InstanceFile {
+    /// `DIMENSION` (or `N`, `key`) at `line`: once per file, and small enough for its matrix.
+    fn set_dim(&mut self, key: &str, value: &str, line: usize) -> Result<(), TsplibError> {
+        let d = positive_count(value, line, "DIMENSION")?;
+        if let Some((_, first)) = self.dim {
+            return Err(TsplibError::BadDimension {
+                line,
+                msg: format!("DIMENSION given twice (first on line {first})"),
+            });
+        }
+        check_matrix_size(d, line)?;
+        if key == "N" {
+            self.compact = true;
+        }
+        self.dim = Some((d, line));
+        Ok(())
+    }
+
+    /// Records that data section `section` of `expected` `unit` just ended.
+    fn ended(&mut self, section: &str, expected: usize, unit: &'static str, because: String) {
+        self.section_end = Some(SectionEnd {
+            section: section.to_string(),
+            expected,
+            unit,
+            because,
+        });
+    }
+
     /// The dimension, needed by a section at `line`.
     fn need_dim(&self, line: usize) -> Result<usize, TsplibError> {
         match self.dim {
@@ -238,7 +274,8 @@ impl InstanceFile {
     }
 
     /// The instance, once the file (of `end` lines) is read: the matrix as listed or computed
-    /// from the coordinates, with a zero diagonal; singleton sets for a plain TSP.
+    /// from the coordinates, with a zero diagonal; singleton sets for a plain TSP. Refused when
+    /// a tour's cost could overflow.
     fn into_instance(self, end: usize) -> Result<Instance, TsplibError> {
         let Some((n, _)) = self.dim else {
             return Err(TsplibError::Missing {
@@ -261,7 +298,7 @@ impl InstanceFile {
                         what: "NODE_COORD_SECTION".into(),
                     });
                 };
-                distance::coordinate_matrix(kind, &c, n)
+                distance::coordinate_matrix(kind, &c, n)?
             }
         };
         let mut dist = CostMatrix::new(n, data);
@@ -281,19 +318,38 @@ impl InstanceFile {
             }
         };
         let symmetric = dist.is_symmetric();
-        Ok(Instance {
+        let inst = Instance {
             name: self.name,
             n,
             sets,
             dist,
             symmetric,
-        })
+        };
+        match inst.check_costs() {
+            Err(InstanceError::CostTooLarge {
+                from,
+                to,
+                cost,
+                n,
+                limit,
+            }) => Err(TsplibError::CostTooLarge {
+                what: format!("arc {} -> {} costs {cost}", from + 1, to + 1),
+                n,
+                limit,
+            }),
+            Err(e) => Err(TsplibError::Syntax {
+                line: end,
+                msg: e.to_string(),
+            }),
+            Ok(()) => Ok(inst),
+        }
     }
 }
 
 /// Parses a TSPLIB tour file (`TOUR_SECTION`, 1-based vertices, ended by
 /// `-1` or `EOF`) and returns 0-based vertices.
 pub fn parse_tour(text: &str) -> Result<Vec<usize>, TsplibError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut lx = Lexer::new(text);
     while let Some((l, _)) = lx.line() {
         let (key, _) = split_header(l);
@@ -329,10 +385,6 @@ pub fn parse_tour(text: &str) -> Result<Vec<usize>, TsplibError> {
 
 /// Reads a tour file from disk; see [`parse_tour`].
 pub fn read_tour_file(path: impl AsRef<Path>) -> Result<Vec<usize>, TsplibError> {
-    let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|source| TsplibError::Io {
-        path: path.display().to_string(),
-        source,
-    })?;
-    parse_tour(&text)
+    let bytes = read_bytes(path.as_ref())?;
+    parse_tour(utf8(&bytes)?)
 }

@@ -11,20 +11,35 @@ pub(super) fn read_coordinates(
     lx: &mut Lexer<'_>,
     n: usize,
     key: &str,
+    line: usize,
 ) -> Result<Option<Vec<(f64, f64)>>, TsplibError> {
-    let vals = lx.numbers(3 * n, key)?;
-    lx.end_tokens()?;
-    if key != "NODE_COORD_SECTION" {
-        return Ok(None);
-    }
-    let mut c = vec![(f64::NAN, f64::NAN); n];
+    let Some(expected) = n.checked_mul(3) else {
+        return Err(TsplibError::BadDimension {
+            line,
+            msg: format!("{key} of {n} nodes has more values than this machine can count"),
+        });
+    };
+    let keep = key == "NODE_COORD_SECTION";
+    // `n` passed the matrix-size check, so this is small next to the matrix to come.
+    let mut c = vec![(f64::NAN, f64::NAN); if keep { n } else { 0 }];
     for k in 0..n {
-        let (id, l) = vals[3 * k];
+        let (id, l) = lx.number(key, expected, 3 * k)?;
+        let (x, _) = lx.number(key, expected, 3 * k + 1)?;
+        let (y, _) = lx.number(key, expected, 3 * k + 2)?;
         if id.fract() != 0.0 || id < 1.0 || id > n as f64 {
+            // Scientific notation keeps a huge id on one short line.
+            let shown = if id.abs() < 1e15 {
+                id.to_string()
+            } else {
+                format!("{id:e}")
+            };
             return Err(TsplibError::Syntax {
                 line: l,
-                msg: format!("node id {id} not in 1..={n}"),
+                msg: format!("node id {shown} not in 1..={n}"),
             });
+        }
+        if !keep {
+            continue;
         }
         let i = id as usize - 1;
         if !c[i].0.is_nan() {
@@ -33,91 +48,94 @@ pub(super) fn read_coordinates(
                 msg: format!("node {id} listed twice"),
             });
         }
-        c[i] = (vals[3 * k + 1].0, vals[3 * k + 2].0);
+        c[i] = (x, y);
     }
-    Ok(Some(c))
+    lx.end_tokens()?;
+    Ok(keep.then_some(c))
+}
+
+/// Number of values `EDGE_WEIGHT_SECTION` lists for an n-vertex matrix in format `fmt`.
+pub(super) fn weight_count(n: usize, fmt: WeightFormat) -> Option<usize> {
+    let tri = |k: usize| n.checked_mul(k).map(|c| c / 2);
+    match fmt {
+        WeightFormat::Full => n.checked_mul(n),
+        WeightFormat::UpperRow | WeightFormat::LowerRow => tri(n.saturating_sub(1)),
+        WeightFormat::UpperDiagRow | WeightFormat::LowerDiagRow => tri(n.checked_add(1)?),
+        WeightFormat::Function => None,
+    }
 }
 
 /// `EDGE_WEIGHT_SECTION` (at `line`) of an n-vertex matrix listed in format `fmt`: the full
-/// matrix, row-major (a triangle is mirrored).
+/// matrix, row-major (a triangle is mirrored). Off-diagonal weights must be ≥ 0; the diagonal
+/// (a sentinel in some GTSPLIB files) is kept as listed.
 pub(super) fn read_edge_weights(
     lx: &mut Lexer<'_>,
     n: usize,
     fmt: WeightFormat,
     line: usize,
 ) -> Result<Vec<i64>, TsplibError> {
-    let count = match fmt {
-        WeightFormat::Full => n * n,
-        WeightFormat::UpperRow | WeightFormat::LowerRow => n * (n - 1) / 2,
-        WeightFormat::UpperDiagRow | WeightFormat::LowerDiagRow => n * (n + 1) / 2,
-        WeightFormat::Function => {
-            return Err(TsplibError::Syntax {
-                line,
-                msg: "EDGE_WEIGHT_SECTION with EDGE_WEIGHT_FORMAT FUNCTION".into(),
-            });
-        }
+    if fmt == WeightFormat::Function {
+        return Err(TsplibError::Syntax {
+            line,
+            msg: "EDGE_WEIGHT_SECTION with EDGE_WEIGHT_FORMAT FUNCTION".into(),
+        });
+    }
+    let Some(count) = weight_count(n, fmt) else {
+        return Err(TsplibError::BadDimension {
+            line,
+            msg: format!("the weights of {n} vertices are more than this machine can count"),
+        });
     };
-    let vals = read_integers(lx, count, "EDGE_WEIGHT_SECTION")?;
+    let section = "EDGE_WEIGHT_SECTION";
+    let mut vals = Vec::with_capacity(lx.capacity(count));
+    for (k, (i, j)) in listed_cells(n, fmt).enumerate() {
+        vals.push(weight(lx, section, count, k, i != j)?);
+    }
+    lx.end_tokens()?;
+    if fmt == WeightFormat::Full {
+        return Ok(vals);
+    }
     let mut m = vec![0i64; n * n];
-    let mut it = vals.into_iter();
-    let mut put = |i: usize, j: usize, v: i64| {
+    for ((i, j), v) in listed_cells(n, fmt).zip(vals) {
         m[i * n + j] = v;
         m[j * n + i] = v;
-    };
-    match fmt {
-        WeightFormat::Full => {
-            for (k, v) in it.enumerate() {
-                m[k] = v;
-            }
-        }
-        WeightFormat::UpperRow => {
-            for i in 0..n {
-                for j in i + 1..n {
-                    put(i, j, it.next().unwrap());
-                }
-            }
-        }
-        WeightFormat::LowerRow => {
-            for i in 0..n {
-                for j in 0..i {
-                    put(i, j, it.next().unwrap());
-                }
-            }
-        }
-        WeightFormat::UpperDiagRow => {
-            for i in 0..n {
-                for j in i..n {
-                    put(i, j, it.next().unwrap());
-                }
-            }
-        }
-        WeightFormat::LowerDiagRow => {
-            for i in 0..n {
-                for j in 0..=i {
-                    put(i, j, it.next().unwrap());
-                }
-            }
-        }
-        WeightFormat::Function => unreachable!(),
     }
     Ok(m)
 }
 
-/// `count` integer values of `section`, ending its last line.
-fn read_integers(lx: &mut Lexer<'_>, count: usize, section: &str) -> Result<Vec<i64>, TsplibError> {
-    let vals = lx.numbers(count, section)?;
-    lx.end_tokens()?;
-    vals.iter().map(|&(x, l)| to_int(x, l)).collect()
+/// The (row, column) of every value `EDGE_WEIGHT_SECTION` lists in format `fmt`, in listing
+/// order.
+fn listed_cells(n: usize, fmt: WeightFormat) -> Box<dyn Iterator<Item = (usize, usize)>> {
+    match fmt {
+        WeightFormat::Full => Box::new((0..n).flat_map(move |i| (0..n).map(move |j| (i, j)))),
+        WeightFormat::UpperRow => {
+            Box::new((0..n).flat_map(move |i| (i + 1..n).map(move |j| (i, j))))
+        }
+        WeightFormat::LowerRow => Box::new((0..n).flat_map(|i| (0..i).map(move |j| (i, j)))),
+        WeightFormat::UpperDiagRow => {
+            Box::new((0..n).flat_map(move |i| (i..n).map(move |j| (i, j))))
+        }
+        WeightFormat::LowerDiagRow => Box::new((0..n).flat_map(|i| (0..=i).map(move |j| (i, j)))),
+        WeightFormat::Function => Box::new(std::iter::empty()),
+    }
 }
 
-fn to_int(x: f64, line: usize) -> Result<i64, TsplibError> {
-    if x.abs() > 9.0e15 {
+/// The next weight (`k` of `count`), refused when negative off the diagonal.
+fn weight(
+    lx: &mut Lexer<'_>,
+    section: &str,
+    count: usize,
+    k: usize,
+    off_diagonal: bool,
+) -> Result<i64, TsplibError> {
+    let (v, line) = lx.integer(section, count, k)?;
+    if off_diagonal && v < 0 {
         return Err(TsplibError::Syntax {
             line,
-            msg: format!("value {x} out of range"),
+            msg: format!("negative weight {v} in {section} (weights must be ≥ 0)"),
         });
     }
-    Ok(x.round() as i64)
+    Ok(v)
 }
 
 /// GLNS's compact format after `M: m` at `line`: m lines `id v1 v2 ...`, then the full n × n
@@ -142,6 +160,7 @@ pub(super) fn read_compact(
                 section: "set list".into(),
                 expected: m,
                 found: groups.len(),
+                unit: "sets",
             });
         };
         let mut toks = sl.split_whitespace();
@@ -157,7 +176,12 @@ pub(super) fn read_compact(
         groups.push((g, sline));
     }
     let sets = check_sets(groups, n, m)?;
-    let matrix = read_integers(lx, n * n, "matrix")?;
+    let count = n * n;
+    let mut matrix = Vec::with_capacity(lx.capacity(count));
+    for k in 0..count {
+        matrix.push(weight(lx, "matrix", count, k, k % (n + 1) != 0)?);
+    }
+    lx.end_tokens()?;
     Ok((sets, matrix))
 }
 
@@ -168,6 +192,14 @@ pub(super) fn read_gtsp_sets(
     n: usize,
     declared: Option<(usize, usize)>,
 ) -> Result<Vec<Vec<usize>>, TsplibError> {
+    if let Some((m, line)) = declared
+        && m > n
+    {
+        return Err(TsplibError::BadDimension {
+            line,
+            msg: format!("GTSP_SETS {m} is more than DIMENSION {n} (every set needs a vertex)"),
+        });
+    }
     let groups = read_set_section(lx, declared.map(|x| x.0))?;
     lx.end_tokens()?;
     let m = groups.len();
@@ -206,6 +238,7 @@ fn read_set_section(lx: &mut Lexer<'_>, expected: Option<usize>) -> Result<Group
                 section: "GTSP_SET_SECTION".into(),
                 expected: expected.unwrap_or(0),
                 found: groups.len(),
+                unit: "sets",
             });
         };
         let Ok(id) = t.parse::<usize>() else {
@@ -218,6 +251,7 @@ fn read_set_section(lx: &mut Lexer<'_>, expected: Option<usize>) -> Result<Group
                     section: "GTSP_SET_SECTION".into(),
                     expected: expected.unwrap_or(0),
                     found: groups.len(),
+                    unit: "sets",
                 }
             } else {
                 TsplibError::Syntax {
@@ -236,6 +270,7 @@ fn read_set_section(lx: &mut Lexer<'_>, expected: Option<usize>) -> Result<Group
                     section: "GTSP_SET_SECTION".into(),
                     expected: expected.unwrap_or(groups.len() + 1),
                     found: groups.len(),
+                    unit: "sets",
                 });
             };
             if t == "-1" {
@@ -250,6 +285,7 @@ fn read_set_section(lx: &mut Lexer<'_>, expected: Option<usize>) -> Result<Group
                             section: "GTSP_SET_SECTION".into(),
                             expected: expected.unwrap_or(groups.len() + 1),
                             found: groups.len(),
+                            unit: "sets",
                         }
                     } else {
                         TsplibError::Syntax {
