@@ -140,6 +140,7 @@ fn main() -> Result<()> {
         world_seeds: 3,
         jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
         time_limit: Some(limit),
+        cancel: Default::default(),
     };
     let entrants = vec![Entrant::registered("gtsp")?, entrant()];
     let result = compare::run(&options, &entrants, || {})?;

@@ -4,6 +4,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 
+use crate::flags;
+
 /// Strider: a robot that explores unknown terrain and learns how hard it is to traverse.
 ///
 /// Everything runs in Strider's own 2.5D simulator on built-in scenarios (or your own scenario
@@ -114,7 +116,7 @@ pub struct ScenarioArg {
     #[arg(long, short = 's', default_value = "courtyard-small")]
     pub scenario: String,
     /// Seed of the procedural world family (built-ins only; 1 is the reference world).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub world_seed: u64,
 }
 
@@ -152,17 +154,18 @@ pub struct RunArgs {
     #[arg(long)]
     pub gait: Option<String>,
     /// Seed of the mission and the simulator's noise.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub seed: u64,
-    /// Mission time limit in simulated seconds (default: the scenario's).
-    #[arg(long)]
+    /// Mission time limit in simulated seconds (default: the scenario's); > 0 and ≤ 10⁶.
+    #[arg(long, value_name = "SECONDS", value_parser = flags::time_limit, allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
     /// Output directory (created if missing).
     #[arg(long, short = 'o', default_value = "out/run")]
     pub out: PathBuf,
     /// Also record the mission to this MCAP file: the sensor stream as ROS 2 messages
     /// (replayable with `strider replay`) and the map, costs, goals, tour and path with
-    /// Foxglove's schemas (open it in Foxglove).
+    /// Foxglove's schemas (open it in Foxglove). It is written as FILE.part and renamed to
+    /// FILE once finished, also when the mission is interrupted (Ctrl-C).
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
 }
@@ -183,27 +186,35 @@ pub struct ReplayArgs {
 
 #[derive(Args, Debug)]
 pub struct Table5Args {
-    /// Trials per row on courtyard-small (mission seeds 1..=N).
-    #[arg(long, default_value_t = 25)]
+    /// Trials per row on courtyard-small (mission seeds 1..=N); 1 to 10000.
+    #[arg(long, default_value_t = 25, value_parser = flags::trials, allow_negative_numbers = true)]
     pub trials: usize,
-    /// Trials per row on courtyard-large (default: --trials).
-    #[arg(long)]
+    /// Trials per row on courtyard-large (default: --trials); 0 (no large-world rows) to 10000.
+    #[arg(long, value_parser = flags::large_trials, allow_negative_numbers = true)]
     pub large_trials: Option<usize>,
-    /// Random worlds the trials cycle through (world seeds 1..=K).
-    #[arg(long, default_value_t = 5)]
+    /// Random worlds the trials cycle through (world seeds 1..=K); 1 to 10⁶.
+    #[arg(long, default_value_t = 5, value_parser = flags::world_seeds, allow_negative_numbers = true)]
     pub world_seeds: u64,
-    /// Trials run in parallel (default: the number of CPUs).
-    #[arg(long)]
+    /// Trials run in parallel (default: the number of CPUs); 1 to 256, more than
+    /// the CPUs run as many threads as there are CPUs.
+    #[arg(long, value_parser = flags::jobs, allow_negative_numbers = true)]
     pub jobs: Option<usize>,
-    /// Override the scenarios' mission time limit, simulated seconds (for quick runs).
-    #[arg(long)]
+    /// Override the scenarios' mission time limit, simulated seconds (for quick runs); > 0 and
+    /// ≤ 10⁶.
+    #[arg(long, value_name = "SECONDS", value_parser = flags::time_limit, allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
     /// Also record each trial's mission as MCAP (`strider run --mcap`) into this directory.
     #[arg(long)]
     pub mcap_dir: Option<PathBuf>,
-    /// Output directory (created if missing).
+    /// Output directory (created if missing). Every finished trial is kept in DIR/trials as it
+    /// finishes.
     #[arg(long, short = 'o', default_value = "out/table5")]
     pub out: PathBuf,
+    /// Continue an earlier run with the same options (e.g. one interrupted with Ctrl-C): reuse
+    /// the trials kept in DIR/trials and run only the missing ones. Without it, a run starts
+    /// afresh and removes the trial files of earlier runs in DIR/trials.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 #[derive(Args, Debug)]
@@ -222,17 +233,18 @@ pub struct CompareArgs {
         default_value = "gtsp,greedy,spatial-only,rbcm-greedy"
     )]
     pub strategies: Vec<String>,
-    /// Trials per scenario and strategy (mission seeds 1..=N).
-    #[arg(long, default_value_t = 5)]
+    /// Trials per scenario and strategy (mission seeds 1..=N); 1 to 10000.
+    #[arg(long, default_value_t = 5, value_parser = flags::trials, allow_negative_numbers = true)]
     pub trials: usize,
-    /// Random worlds the trials cycle through (world seeds 1..=K).
-    #[arg(long, default_value_t = 5)]
+    /// Random worlds the trials cycle through (world seeds 1..=K); 1 to 10⁶.
+    #[arg(long, default_value_t = 5, value_parser = flags::world_seeds, allow_negative_numbers = true)]
     pub world_seeds: u64,
-    /// Trials run in parallel (default: the number of CPUs).
-    #[arg(long)]
+    /// Trials run in parallel (default: the number of CPUs); 1 to 256, more than
+    /// the CPUs run as many threads as there are CPUs.
+    #[arg(long, value_parser = flags::jobs, allow_negative_numbers = true)]
     pub jobs: Option<usize>,
-    /// Override the scenarios' mission time limit, simulated seconds.
-    #[arg(long)]
+    /// Override the scenarios' mission time limit, simulated seconds; > 0 and ≤ 10⁶.
+    #[arg(long, value_name = "SECONDS", value_parser = flags::time_limit, allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
     /// Output directory (created if missing).
     #[arg(long, short = 'o', default_value = "out/compare")]
@@ -320,7 +332,7 @@ pub struct RenderArgs {
     /// Built-in scenario name or path to a scenario `.toml` file.
     pub name: String,
     /// Seed of the procedural world family (built-ins only).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub world_seed: u64,
     /// Output directory (created if missing).
     #[arg(long, short = 'o')]
@@ -332,7 +344,7 @@ pub struct ExportArgs {
     /// Built-in scenario name or path to a scenario `.toml` file.
     pub name: String,
     /// Seed of the procedural world family (built-ins only).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub world_seed: u64,
     /// Output directory (created if missing); the TOML is `DIR/scenario.toml`.
     #[arg(long, short = 'o')]
@@ -344,13 +356,15 @@ pub struct MapBuildArgs {
     #[command(flatten)]
     pub scenario: ScenarioArg,
     /// Seed of the simulator's noise.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub seed: u64,
-    /// Spacing of the coverage lanes, metres (default: 0.4 × sensor range).
-    #[arg(long)]
+    /// Spacing of the coverage lanes, metres (default: 0.4 × sensor range); > 0 and ≤ 1000,
+    /// and at most the world's longer side (wider lanes are one lane).
+    #[arg(long, value_name = "METRES", value_parser = flags::lane_spacing, allow_negative_numbers = true)]
     pub lane_spacing: Option<f64>,
-    /// Stop driving after this many simulated seconds (default: when the path is done).
-    #[arg(long)]
+    /// Stop driving after this many simulated seconds (default: when the path is done); > 0
+    /// and ≤ 10⁶.
+    #[arg(long, value_name = "SECONDS", value_parser = flags::time_limit, allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
     /// Output directory (created if missing).
     #[arg(long, short = 'o')]
@@ -371,16 +385,17 @@ pub struct ToursArgs {
     #[arg(long, short = 's', default_value = "energy-arena")]
     pub scenario: String,
     /// Seed of the procedural world family (built-ins only; 1 is the reference world).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub world_seed: u64,
     /// Seed of the simulator's noise.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub seed: u64,
-    /// Run this many noise seeds (seed, seed + 1, …) and count the acceptance criteria.
-    #[arg(long, default_value_t = 1)]
+    /// Run this many noise seeds (seed, seed + 1, …) and count the acceptance criteria; 1 to
+    /// 1000.
+    #[arg(long, default_value_t = 1, value_parser = flags::tour_seeds, allow_negative_numbers = true)]
     pub seeds: u64,
-    /// Number of tours (default: the scenario's `n_tours`, 25 on energy-arena).
-    #[arg(long)]
+    /// Number of tours (default: the scenario's `n_tours`, 25 on energy-arena); 1 to 10000.
+    #[arg(long, value_parser = flags::tours, allow_negative_numbers = true)]
     pub tours: Option<usize>,
     /// Output directory (created if missing).
     #[arg(long, short = 'o', default_value = "out/tours")]
@@ -394,7 +409,7 @@ pub struct NavigateArgs {
     #[arg(long, short = 's', default_value = "bonn-paths")]
     pub scenario: String,
     /// Seed of the simulator's noise (the first of `--seeds` consecutive seeds).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub seed: u64,
     /// Output directory (created if missing).
     #[arg(long, short = 'o', default_value = "out/navigate")]
@@ -402,24 +417,26 @@ pub struct NavigateArgs {
     /// Sites: comma-separated world seeds of the scenario family (e.g. `1,2`).
     #[arg(long, default_value = "1")]
     pub sites: String,
-    /// Number of consecutive seeds per site, from `--seed` (the acceptance sweep uses 10).
-    #[arg(long, default_value_t = 1)]
+    /// Number of consecutive seeds per site, from `--seed` (the acceptance sweep uses 10); 1 to
+    /// 1000.
+    #[arg(long, default_value_t = 1, value_parser = flags::navigate_seeds, allow_negative_numbers = true)]
     pub seeds: u64,
-    /// Runs per task (Nardi19: 25).
-    #[arg(long, default_value_t = 25)]
+    /// Runs per task (Nardi19: 25); 1 to 1000.
+    #[arg(long, default_value_t = 25, value_parser = flags::runs, allow_negative_numbers = true)]
     pub runs: usize,
     /// Objectives of the start-goal experiment: comma-separated `vibration`, `energy`.
     #[arg(long, default_value = "vibration,energy")]
     pub objectives: String,
-    /// λ of the lower confidence bound μ − λσ (decision 26).
-    #[arg(long, default_value_t = 1.0)]
+    /// λ of the lower confidence bound μ − λσ (decision 26); 0 to 100.
+    #[arg(long, default_value_t = 1.0, value_parser = flags::lambda, allow_negative_numbers = true)]
     pub lambda: f64,
     /// An aerial image (8-bit RGB PNG, north up, one pixel per grid cell) replacing the
     /// scenario's colour layer.
     #[arg(long)]
     pub aerial: Option<PathBuf>,
-    /// Navigations run in parallel (default: the number of CPUs).
-    #[arg(long)]
+    /// Navigations run in parallel (default: the number of CPUs); 1 to 256, more than
+    /// the CPUs run as many threads as there are CPUs.
+    #[arg(long, value_parser = flags::jobs, allow_negative_numbers = true)]
     pub jobs: Option<usize>,
 }
 
@@ -429,29 +446,32 @@ pub struct LearnBenchArgs {
     /// Which protocol: stream (Prágr19 §V-A), c1 (Prágr18 Table I) or all.
     #[arg(long, default_value = "all")]
     pub protocol: String,
-    /// Repetitions of the stream protocol (Prágr19: 100), each on its own recorded stream.
-    #[arg(long, default_value_t = 100)]
+    /// Repetitions of the stream protocol (Prágr19: 100), each on its own recorded stream; 1 to
+    /// 1000.
+    #[arg(long, default_value_t = 100, value_parser = flags::reps, allow_negative_numbers = true)]
     pub reps: usize,
     /// Distinct recorded streams (simulator seeds `--seed` … `--seed + K − 1`); repetition r runs
     /// on stream r mod K, so repetitions of one stream repeat its timings (Prágr19's 100 trials)
-    /// and the K streams give the RMSE its spread.
-    #[arg(long, default_value_t = 10)]
+    /// and the K streams give the RMSE its spread. 1 to 1000.
+    #[arg(long, default_value_t = 10, value_parser = flags::streams, allow_negative_numbers = true)]
     pub streams: usize,
-    /// Pairs per stream (Prágr19: 292 from two passes).
-    #[arg(long, default_value_t = 300)]
+    /// Pairs per stream (Prágr19: 292 from two passes); 2 to 2000.
+    #[arg(long, default_value_t = 300, value_parser = flags::pairs, allow_negative_numbers = true)]
     pub pairs: usize,
-    /// Independent trials (pass 1 + aerial-view pass 2) pooled per C1 cell.
-    #[arg(long, default_value_t = 3)]
+    /// Independent trials (pass 1 + aerial-view pass 2) pooled per C1 cell; 1 to 1000.
+    #[arg(long, default_value_t = 3, value_parser = flags::c1_runs, allow_negative_numbers = true)]
     pub c1_runs: usize,
     /// Pairs per C1 pass (0: the whole lane, Prágr18's protocol); fewer cut both passes short
-    /// (quick runs and tests).
-    #[arg(long, default_value_t = 0)]
+    /// (quick runs and tests). 0 to 100000.
+    #[arg(long, default_value_t = 0, value_parser = flags::c1_pairs, allow_negative_numbers = true)]
     pub c1_pairs: usize,
     /// Seed of the simulator's noise (stream i and C1 trial i use seed + i).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub seed: u64,
-    /// Work run in parallel (default: the number of CPUs). Timings are wall-clock per thread.
-    #[arg(long)]
+    /// Work run in parallel (default: the number of CPUs); 1 to 256, more than
+    /// the CPUs run as many threads as there are CPUs. Timings are wall-clock
+    /// per thread.
+    #[arg(long, value_parser = flags::jobs, allow_negative_numbers = true)]
     pub jobs: Option<usize>,
     /// Output directory (created if missing).
     #[arg(long, short = 'o', default_value = "out/learn")]

@@ -5,12 +5,15 @@ use anyhow::{Context, Result, bail};
 use strider_experiments::compare::{self, CompareOptions, Entrant};
 use strider_experiments::martin_corke::{self, ToursOptions};
 use strider_experiments::nardi19::{self, NavigateOptions};
-use strider_experiments::parallel::available_jobs;
+use strider_experiments::parallel::{available_jobs, threads};
 use strider_experiments::pragr22::{Table5Options, table5 as run_table5};
 use strider_experiments::progress::Progress;
 use strider_explore::navigate::Objective;
 
+use strider_experiments::cancel::Interrupted;
+
 use crate::args::{CompareArgs, NavigateArgs, Table5Args, ToursArgs};
+use crate::interrupt;
 use crate::progress::Bar;
 
 /// `strider bench table5`: Prágr22 Table 5.
@@ -19,16 +22,52 @@ pub fn table5(a: &Table5Args) -> Result<()> {
         trials: a.trials,
         large_trials: a.large_trials.unwrap_or(a.trials),
         world_seeds: a.world_seeds,
-        jobs: a.jobs.unwrap_or_else(available_jobs),
+        jobs: threads(a.jobs.unwrap_or_else(available_jobs)),
         time_limit: a.time_limit,
         mcap_dir: a.mcap_dir.clone(),
+        resume: a.resume,
+        cancel: interrupt::winds_down().clone(),
     };
     let bar = Bar::new("{spinner} table 5: {pos}/{len} trials ({elapsed}, eta {eta})");
     let t = run_table5(&o, &a.out, &bar)?;
     drop(bar);
+    if !t.complete() {
+        let table = if t.finished > 0 {
+            format!(
+                " and their table {} (\"complete\": false)",
+                t.json.display()
+            )
+        } else {
+            String::new()
+        };
+        return Err(Interrupted::new(format!(
+            "kept {} of {} trials in {}{table}; continue with `{}`",
+            t.finished,
+            t.total,
+            t.trials_dir.display(),
+            table5_resume_command(a, &o)
+        ))
+        .into());
+    }
     print!("{}", t.markdown);
     println!("-> {} and {}", t.json.display(), t.md.display());
     Ok(())
+}
+
+/// The command that continues an interrupted `strider bench table5`.
+fn table5_resume_command(a: &Table5Args, o: &Table5Options) -> String {
+    let mut c = format!(
+        "strider bench table5 --trials {} --large-trials {} --world-seeds {}",
+        o.trials, o.large_trials, o.world_seeds
+    );
+    if let Some(t) = o.time_limit {
+        c.push_str(&format!(" --time-limit {t}"));
+    }
+    if let Some(d) = &o.mcap_dir {
+        c.push_str(&format!(" --mcap-dir {}", d.display()));
+    }
+    c.push_str(&format!(" --out {} --resume", a.out.display()));
+    c
 }
 
 /// `strider bench compare`: the registry's strategies on the same worlds.
@@ -37,8 +76,9 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
         scenarios: a.scenarios.clone(),
         trials: a.trials,
         world_seeds: a.world_seeds,
-        jobs: a.jobs.unwrap_or_else(available_jobs),
+        jobs: threads(a.jobs.unwrap_or_else(available_jobs)),
         time_limit: a.time_limit,
+        cancel: interrupt::winds_down().clone(),
     };
     let entrants = a
         .strategies
@@ -51,6 +91,21 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
     let result = compare::run(&o, &entrants, || bar.inc())?;
     drop(bar);
     let command = compare::command_line(&o, &a.strategies);
+    if result.completion.interrupted {
+        if result.trials.is_empty() {
+            return Err(Interrupted::new(
+                "no trial had finished, nothing was kept; run the command again",
+            )
+            .into());
+        }
+        compare::write(&a.out, &result, &command)?;
+        return Err(Interrupted::new(format!(
+            "kept the comparison of the {} trials finished, {} (\"complete\": false); `bench compare` cannot resume: run `{command}` again for all of them",
+            result.trials.len(),
+            a.out.join("compare.json").display()
+        ))
+        .into());
+    }
     compare::write(&a.out, &result, &command)?;
     print!("{}", compare::markdown(&result, &command));
     println!(
@@ -90,7 +145,7 @@ pub fn navigate(a: &NavigateArgs) -> Result<()> {
         objectives: parse_list(&a.objectives, "--objectives", Objective::parse)?,
         lambda: a.lambda,
         aerial: a.aerial.clone(),
-        jobs: a.jobs.unwrap_or_else(available_jobs),
+        jobs: threads(a.jobs.unwrap_or_else(available_jobs)),
     };
     let bar = Bar::new("{bar:30} {pos}/{len} runs ({elapsed}) {msg}");
     let done = nardi19::run(&o, &bar)?;

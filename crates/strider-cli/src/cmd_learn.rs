@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use strider_experiments::io::create_dir;
-use strider_experiments::parallel::{available_jobs, pool};
+use strider_experiments::parallel::{available_jobs, pool, threads};
 use strider_experiments::pragr18::{C1Options, c1_bench};
 use strider_experiments::pragr19::{StreamOptions, stream_bench};
 use strider_experiments::pragr23::vegetation;
@@ -41,7 +41,7 @@ pub fn bench(a: &LearnBenchArgs) -> Result<()> {
         c1_options.check()?;
     }
     create_dir(&a.out)?;
-    let pool = pool(a.jobs.unwrap_or_else(available_jobs))?;
+    let pool = pool(threads(a.jobs.unwrap_or_else(available_jobs)))?;
     let mut summary = Vec::new();
     if stream {
         let t = Instant::now();

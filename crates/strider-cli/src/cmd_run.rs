@@ -5,6 +5,7 @@ use strider_experiments::replay::replay as replay_log;
 use strider_experiments::run::{RunRequest, run as run_mission};
 
 use crate::args::{ReplayArgs, RunArgs};
+use crate::interrupt;
 use crate::progress::Bar;
 
 /// `KEY=VALUE` pairs of `--set`, then `--gait` as `gait=NAME`.
@@ -34,19 +35,27 @@ pub fn run(a: &RunArgs) -> Result<()> {
         time_limit: a.time_limit,
         out: &a.out,
         mcap: a.mcap.as_deref(),
+        cancel: interrupt::winds_down(),
     };
     let bar = Bar::new("{spinner} exploring {pos}/{len} s simulated ({elapsed}) {msg}");
     let outcome = run_mission(&req, &bar)?;
     drop(bar);
     println!("{outcome}");
-    Ok(())
+    match outcome.interrupted() {
+        Some(i) => Err(i.into()),
+        None => Ok(()),
+    }
 }
 
 /// `strider replay`: a recorded log through the mission's mapping and learning.
 pub fn replay(a: &ReplayArgs) -> Result<()> {
     let bar = Bar::new("{spinner} replaying {pos}/{len} s recorded ({elapsed}) {msg}");
-    let replay = replay_log(&a.log, &a.config, &a.out, &bar)?;
+    let cancel = interrupt::winds_down();
+    let replay = replay_log((&a.log, &a.config), &a.out, cancel, &bar)?;
     drop(bar);
     println!("{replay}");
-    Ok(())
+    match replay.interrupted() {
+        Some(i) => Err(i.into()),
+        None => Ok(()),
+    }
 }

@@ -1,6 +1,7 @@
 //! `strider scenario …` (list, render, export) and `strider map build`.
 
 use anyhow::Result;
+use strider_experiments::io::write_staged;
 use strider_experiments::map_build::{MapBuildOptions, build};
 use strider_experiments::scenario_figures::render as render_scenario;
 use strider_experiments::trial::load;
@@ -31,7 +32,7 @@ pub fn render(a: &RenderArgs) -> Result<()> {
 /// Writes the scenario as TOML + PNG layers.
 pub fn export(a: &ExportArgs) -> Result<()> {
     let sc = load(&a.name, a.world_seed)?;
-    sc.save(&a.out)?;
+    write_staged(&a.out, |dir| Ok(sc.save(dir).map(|_| ())?))?;
     println!(
         "wrote {} to {}",
         sc.name,

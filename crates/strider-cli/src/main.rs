@@ -1,8 +1,13 @@
 //! # strider
 //!
-//! The command-line entry point: it parses the arguments ([`args`]), calls the experiments of
-//! `strider_experiments` (or the solver and GP tools) and prints what they return. Errors end in
-//! one line on stderr and exit code 1.
+//! The command-line entry point: it parses the arguments ([`args`], ranges in [`flags`]), calls
+//! the experiments of `strider_experiments` (or the solver and GP tools) and prints what they
+//! return. Errors, bad flags included, end in one line on stderr and exit code 1; a command
+//! that created its output directory and fails before writing anything there removes it.
+//!
+//! Ctrl-C (or SIGTERM) during `run`, `replay` or `bench` winds the work down ([`interrupt`]):
+//! what was finished is kept, one line on stderr says what and how to continue, and the exit
+//! code is 130. Other commands, and a second Ctrl-C, stop at once.
 
 mod args;
 mod cmd_bench;
@@ -12,6 +17,9 @@ mod cmd_learn;
 mod cmd_run;
 mod cmd_scenario;
 mod cmd_strategies;
+mod flags;
+mod interrupt;
+mod out_dir;
 mod progress;
 mod ranges;
 
@@ -19,16 +27,58 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::Parser;
+use clap::error::ErrorKind;
+use strider_experiments::cancel::Interrupted;
 
 use args::{
     BenchCommand, Cli, Command, GpCommand, GtspCommand, LearnCommand, MapCommand, ScenarioCommand,
 };
 
 fn main() -> ExitCode {
-    match dispatch(Cli::parse().command) {
+    let command = match Cli::try_parse() {
+        Ok(cli) => cli.command,
+        Err(e) => return usage_error(&e),
+    };
+    interrupt::install();
+    let fresh = out_dir::Fresh::before(&out_dir::of(&command));
+    let result = dispatch(command);
+    if result.is_err() {
+        fresh.remove_if_empty();
+    }
+    match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {}", one_line(&e));
+        Err(e) => match e.downcast_ref::<Interrupted>() {
+            Some(i) => {
+                eprintln!("{i}");
+                ExitCode::from(interrupt::EXIT_CODE)
+            }
+            None => {
+                eprintln!("error: {}", one_line(&e));
+                ExitCode::FAILURE
+            }
+        },
+    }
+}
+
+/// A command line clap refused: help and version are printed as clap prints them; anything
+/// else is the first line of clap's message (`invalid value '-1' for '--time-limit
+/// <SECONDS>': must be …`), exit code 1.
+fn usage_error(e: &clap::Error) -> ExitCode {
+    match e.kind() {
+        ErrorKind::DisplayHelp
+        | ErrorKind::DisplayVersion
+        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            if e.use_stderr() {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::SUCCESS
+            }
+        }
+        _ => {
+            let text = e.render().to_string();
+            let line = text.lines().next().unwrap_or("bad command line");
+            eprintln!("error: {}", line.trim_start_matches("error: "));
             ExitCode::FAILURE
         }
     }

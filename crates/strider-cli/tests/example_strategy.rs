@@ -14,6 +14,7 @@ fn the_example_strategy_explores_and_is_compared() {
         world_seeds: 1,
         jobs: 2,
         time_limit: Some(90.0),
+        cancel: Default::default(),
     };
     let entrants = vec![
         Entrant::registered("greedy").unwrap(),

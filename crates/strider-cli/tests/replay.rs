@@ -6,6 +6,7 @@ mod common;
 
 use std::path::Path;
 use strider_core::msg::ColoredPoint;
+use strider_experiments::cancel::Cancel;
 use strider_experiments::trial::{configure, drive, mission_params, robot_spec, run_mission};
 use strider_explore::FromParams;
 use strider_explore::{Strategy, TourExplorer};
@@ -26,14 +27,21 @@ fn replay_of_a_recorded_mission_gives_the_live_map_and_costs() {
     params.time_limit_s = 150.0;
     let dir = common::temp_dir("replay", "round-trip");
     let file = dir.join("run.mcap");
-    let (live, live_log, written) =
-        run_mission(&sc, params.clone(), 1, Some(&file), |_| {}).unwrap();
+    let (live, live_log, written) = run_mission(
+        &sc,
+        params.clone(),
+        1,
+        (Some(&file), &Cancel::new()),
+        |_| {},
+    )
+    .unwrap();
     let written = written.expect("the recording wrote messages");
     assert!(written.messages["/robot/sensor_0/points"] > 10);
     assert!(written.messages["/strider/map"] > 5);
 
     // Recording does not change the mission.
-    let (plain, plain_log, _) = run_mission(&sc, params.clone(), 1, None, |_| {}).unwrap();
+    let (plain, plain_log, _) =
+        run_mission(&sc, params.clone(), 1, (None, &Cancel::new()), |_| {}).unwrap();
     assert_eq!(plain.record().trajectory, live.record().trajectory);
     assert_eq!(plain_log.cost_samples, live_log.cost_samples);
 
@@ -136,7 +144,7 @@ fn every_strategy_records_and_its_replay_gives_its_map() {
             let (_, configured) = configure(&sc, name, &[]).unwrap();
             let mut live = configured.build(&robot, 2).unwrap();
             let file = dir.join(format!("{scenario}-{name}.mcap"));
-            let written = drive(&sc, 2, &mut live, Some(&file), |_, _| {})
+            let written = drive(&sc, 2, &mut live, (Some(&file), &Cancel::new()), |_, _| {})
                 .unwrap()
                 .unwrap();
             assert!(written.messages["/strider/map"] > 0, "{name} on {scenario}");

@@ -1,14 +1,15 @@
 //! `strider bench table5` end to end, with missions cut short: every block of the table is
-//! written, and `--mcap-dir` records one MCAP file per trial.
+//! written, `--mcap-dir` records one MCAP file per trial, every finished trial is kept in
+//! `OUT/trials`, and `--resume` runs only the missing trials and gives the same table.
 
 mod common;
 use common::{one_line_error, strider, temp_dir};
+use serde_json::Value;
+use std::path::Path;
 
-#[test]
-fn a_short_table5_writes_every_block_and_records_each_trial() {
-    let dir = temp_dir("table5", "short");
-    let (out, mcap) = (dir.join("out"), dir.join("mcap"));
-    let o = strider(&[
+/// `strider bench table5` of one trial per row, 20 s missions, into `out`, with `extra` flags.
+fn table5(out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
         "bench",
         "table5",
         "--trials",
@@ -19,11 +20,34 @@ fn a_short_table5_writes_every_block_and_records_each_trial() {
         "2",
         "--time-limit",
         "20",
-        "--mcap-dir",
-        mcap.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    strider(&args)
+}
+
+fn read_json(file: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap()
+}
+
+/// Drops what depends on the machine and its load: wall-clock durations and latencies.
+fn without_wall_clock(v: &mut Value) {
+    match v {
+        Value::Object(map) => {
+            map.retain(|k, _| !(k.contains("wall") || k.contains("_ms")));
+            map.values_mut().for_each(without_wall_clock);
+        }
+        Value::Array(items) => items.iter_mut().for_each(without_wall_clock),
+        _ => {}
+    }
+}
+
+#[test]
+fn a_short_table5_writes_every_block_records_each_trial_and_resumes() {
+    let dir = temp_dir("table5", "short");
+    let (out, mcap) = (dir.join("out"), dir.join("mcap"));
+    let o = table5(&out, &["--mcap-dir", mcap.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let md = std::fs::read_to_string(out.join("table5.md")).unwrap();
     let json: serde_json::Value =
@@ -60,6 +84,69 @@ fn a_short_table5_writes_every_block_and_records_each_trial() {
         );
         assert!(bytes.ends_with(b"\x89MCAP0\r\n"), "{f} is not closed");
     }
+    resume_runs_the_missing_trials_only(&dir, &out);
+}
+
+/// An interrupted table (here: two of its four trial files kept) resumed gives the table of
+/// the uninterrupted run `done`; the kept trials are reused as they were.
+fn resume_runs_the_missing_trials_only(dir: &Path, done: &Path) {
+    let out = dir.join("resumed");
+    std::fs::create_dir_all(out.join("trials")).unwrap();
+    for kept in ["courtyard-small-gtsp-w1-s1", "courtyard-large-gtsp-w1-s1"] {
+        let name = format!("{kept}.json");
+        std::fs::copy(
+            done.join("trials").join(&name),
+            out.join("trials").join(&name),
+        )
+        .unwrap();
+    }
+    let o = table5(&out, &["--resume"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (mut want, mut got) = (
+        read_json(&done.join("table5.json")),
+        read_json(&out.join("table5.json")),
+    );
+    assert_eq!(got["complete"], true);
+    // The kept trials were read back, not run again: even their wall times are the same.
+    let wall = |v: &Value, strategy: &str, scenario: &str| {
+        v["trial_results"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|t| t["strategy"] == strategy && t["scenario"] == scenario)
+            .map(|t| t["wall_s"].clone())
+    };
+    for scenario in ["courtyard-small", "courtyard-large"] {
+        assert_eq!(wall(&want, "gtsp", scenario), wall(&got, "gtsp", scenario));
+    }
+    without_wall_clock(&mut want);
+    without_wall_clock(&mut got);
+    assert_eq!(want, got, "the resumed table differs");
+    let table = |p: &Path| -> Vec<String> {
+        std::fs::read_to_string(p.join("table5.md"))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.contains(" wall") && !l.contains(" ms"))
+            .map(str::to_string)
+            .collect()
+    };
+    assert_eq!(table(done), table(&out));
+
+    // Kept trials of another setting are refused rather than mixed into the table.
+    let e = one_line_error(&strider(&[
+        "bench",
+        "table5",
+        "--trials",
+        "1",
+        "--world-seeds",
+        "1",
+        "--time-limit",
+        "30",
+        "--resume",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    assert!(e.contains("resume with the options"), "{e}");
 }
 
 #[test]
@@ -68,4 +155,15 @@ fn bad_table5_options_are_one_line_errors() {
     assert!(e.contains("--trials"), "{e}");
     let e = one_line_error(&strider(&["bench", "table5", "--time-limit=-3"]));
     assert!(e.contains("--time-limit"), "{e}");
+    let e = one_line_error(&strider(&[
+        "bench",
+        "table5",
+        "--trials",
+        "18446744073709551615",
+    ]));
+    assert!(
+        e.contains("'18446744073709551615' for '--trials <TRIALS>'")
+            && e.contains("from 1 to 10000"),
+        "{e}"
+    );
 }

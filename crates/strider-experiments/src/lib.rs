@@ -23,11 +23,14 @@
 //! (strategies of different papers on the same worlds), [`replay`] (a recorded log through the
 //! mission's mapping and learning), [`map_build`] (the map judged against ground truth),
 //! [`stats`] (one definition of each statistic), [`report`] and [`render`] (the HTML report and
-//! the figures), [`scenario_figures`], [`io`], [`parallel`] and [`progress`]. [`soak`] runs every
-//! strategy on many worlds and checks the invariants every mission must keep.
+//! the figures), [`scenario_figures`], [`io`], [`parallel`], [`progress`] and [`cancel`] (stopping
+//! early on Ctrl-C without losing what was done). [`soak`] runs every strategy on many worlds and
+//! checks the invariants every mission must keep.
 
+pub mod cancel;
 pub mod compare;
 pub mod io;
+mod journal;
 pub mod map_build;
 pub mod martin_corke;
 pub mod nardi19;

@@ -3,15 +3,26 @@
 
 use anyhow::{Context, Result};
 
-/// The number of CPUs (1 when unknown): the default of every `--jobs`.
+/// The most threads a `--jobs` may ask for (more than any machine here has cores).
+pub const MAX_JOBS: usize = 256;
+
+/// The number of CPUs (1 when unknown, at most [`MAX_JOBS`]): the default of every `--jobs`.
 pub fn available_jobs() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
+    std::thread::available_parallelism().map_or(1, |n| n.get().min(MAX_JOBS))
 }
 
-/// A pool of `jobs` threads (at least one) for trials run side by side.
+/// The threads a pool asked for `jobs` runs: at least one, at most [`available_jobs`]. The work
+/// is CPU-bound, so threads beyond the cores gain nothing, while each reserves its own stack
+/// and allocator arena (thousands of them exhaust the address space) and holds a whole
+/// mission or navigation while it works.
+pub fn threads(jobs: usize) -> usize {
+    jobs.clamp(1, available_jobs())
+}
+
+/// A pool of [`threads`]`(jobs)` threads for trials run side by side.
 pub fn pool(jobs: usize) -> Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs.max(1))
+        .num_threads(threads(jobs))
         .build()
         .context("cannot start the trial thread pool")
 }

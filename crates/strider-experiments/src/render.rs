@@ -97,11 +97,13 @@ impl Canvas {
         }
     }
 
-    /// Writes the PNG.
+    /// Writes the PNG (atomically, see [`crate::io`]).
     pub fn save(&self, path: &Path) -> Result<()> {
+        let mut png = Vec::new();
         self.img
-            .save(path)
-            .with_context(|| format!("{}: cannot write PNG", path.display()))
+            .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+            .with_context(|| format!("{}: cannot encode PNG", path.display()))?;
+        crate::io::write_bytes(path, &png)
     }
 }
 

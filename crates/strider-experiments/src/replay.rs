@@ -16,13 +16,14 @@ use strider_log::config::MissionConfig;
 use strider_log::{LogReplay, ReplayConfig};
 use strider_map::rect::WorldRect;
 
+use crate::cancel::{Cancel, Completion, Interrupted};
 use crate::io::create_dir;
 use crate::parallel::on_worker;
 use crate::pragr22::report::{MedianMax, ModelReport, models};
 use crate::pragr22::write_figures;
 use crate::progress::Progress;
 use crate::report::write_reports;
-use crate::trial::{load, robot_spec, section};
+use crate::trial::{load, robot_spec, section, termination};
 
 /// The mission parameters of a replay: the robot of a scenario (its `[strategy.<name>]`
 /// section overridden by `parameters`) or the robot given in the configuration, and the
@@ -111,6 +112,10 @@ pub struct LearningMs {
 /// `report.json` of `strider replay`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ReplayReport {
+    /// Whether the whole log was replayed or the replay was interrupted (then the report
+    /// describes the log up to the interruption).
+    #[serde(flatten)]
+    pub completion: Completion,
     /// The MCAP file.
     pub source_log: String,
     /// The replay configuration.
@@ -121,7 +126,7 @@ pub struct ReplayReport {
     pub seed: u64,
     /// `replay`.
     pub strategy: &'static str,
-    /// Why the replay stopped.
+    /// Why the replay stopped (`Interrupted` when it was).
     pub termination: String,
     /// Recorded time replayed, s.
     pub exploration_time_s: f64,
@@ -166,6 +171,21 @@ pub struct Replay {
     pub cost_samples: usize,
 }
 
+impl Replay {
+    /// Whether the replay was interrupted, and if so what was kept (for the terminal).
+    pub fn interrupted(&self) -> Option<Interrupted> {
+        let r = &self.report;
+        r.completion.interrupted.then(|| {
+            Interrupted::new(format!(
+                "kept the report of the first {:.0} s of {:.0} s of log, {} (marked \"complete\": false); run the command again for the whole log",
+                r.exploration_time_s,
+                r.log_duration_s,
+                self.path.display()
+            ))
+        })
+    }
+}
+
 impl fmt::Display for Replay {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let r = &self.report;
@@ -191,20 +211,20 @@ impl fmt::Display for Replay {
 }
 
 /// Runs `strider replay` of `log_path` with the configuration file `config` into `out` (on a
-/// pool thread, see [`on_worker`]).
+/// pool thread, see [`on_worker`]) until the log ends or `cancel` is requested.
 pub fn replay(
-    log_path: &Path,
-    config: &Path,
+    (log_path, config): (&Path, &Path),
     out: &Path,
+    cancel: &Cancel,
     progress: &dyn Progress,
 ) -> Result<Replay> {
-    on_worker(|| replay_on_worker(log_path, config, out, progress))
+    on_worker(|| replay_on_worker((log_path, config), out, cancel, progress))
 }
 
 fn replay_on_worker(
-    log_path: &Path,
-    config: &Path,
+    (log_path, config): (&Path, &Path),
     out: &Path,
+    cancel: &Cancel,
     progress: &dyn Progress,
 ) -> Result<Replay> {
     let wall = Instant::now();
@@ -215,6 +235,7 @@ fn replay_on_worker(
     create_dir(out)?;
     progress.start(params.time_limit_s.max(1.0) as u64);
     let mut mission = TourExplorer::mission(params)?;
+    cancel.watch(&mut mission);
     mission.ingest(&mut replay, |_, p| {
         progress.at(
             p.time_s as u64,
@@ -229,12 +250,13 @@ fn replay_on_worker(
     let stats = replay.stats().clone();
     let record = mission.record();
     let report = ReplayReport {
+        completion: Completion::of(mission.interrupted()),
         source_log: log_path.display().to_string(),
         config: config.display().to_string(),
         scenario: cfg.mission.scenario.clone(),
         seed: cfg.mission.seed,
         strategy: "replay",
-        termination: format!("{:?}", record.termination),
+        termination: termination(&mission),
         exploration_time_s: record.exploration_time_s,
         log_duration_s: replay.duration_s(),
         driven_m: record.driven_m,

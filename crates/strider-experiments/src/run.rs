@@ -12,10 +12,11 @@ use strider_explore::{Mission, MissionProgress, MissionStrategy};
 use strider_log::writer::WriteSummary;
 use strider_scenario::Scenario;
 
+use crate::cancel::{Cancel, Completion, Interrupted};
 use crate::io::create_dir;
 use crate::parallel::on_worker;
 use crate::progress::Progress;
-use crate::trial::{checked_time_limit, configure, load};
+use crate::trial::{checked_time_limit, configure, load, termination};
 use crate::{pragr19, pragr22, pragr23};
 
 /// What `strider run` was asked to do.
@@ -37,6 +38,15 @@ pub struct RunRequest<'a> {
     pub out: &'a Path,
     /// MCAP recording file.
     pub mcap: Option<&'a Path>,
+    /// Stops the mission early when requested; the report is then written marked incomplete.
+    pub cancel: &'a Cancel,
+}
+
+impl RunRequest<'_> {
+    /// The recording file and the cancellation flag, as [`crate::trial::drive`] takes them.
+    pub(crate) fn watch(&self) -> (Option<&Path>, &Cancel) {
+        (self.mcap, self.cancel)
+    }
 }
 
 /// A mission recorded to MCAP: how many messages went to which file.
@@ -91,7 +101,11 @@ impl MissionId {
 /// How a mission's exploration ended.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Explored {
-    /// Why the exploration stopped.
+    /// Whether the mission ran to its end or was interrupted (then the report describes the
+    /// mission up to the interruption, without the work that follows it, e.g. the tours).
+    #[serde(flatten)]
+    pub completion: Completion,
+    /// Why the exploration stopped (`Interrupted` when it was).
     pub termination: String,
     /// Exploration time, simulated s.
     pub exploration_time_s: f64,
@@ -105,7 +119,8 @@ impl Explored {
     pub(crate) fn of<S: MissionStrategy>(mission: &Mission<S>) -> Self {
         let record = mission.record();
         Self {
-            termination: format!("{:?}", record.termination),
+            completion: Completion::of(mission.interrupted()),
+            termination: termination(mission),
             exploration_time_s: record.exploration_time_s,
             driven_m: record.driven_m,
             observed_cells: mission.body().map().observed_count(),
@@ -134,6 +149,28 @@ pub enum RunOutcome {
     Rbcm(Box<MissionRun<pragr19::report::RbcmReport>>),
     /// A Prágr23 mission.
     Escape(Box<MissionRun<pragr23::EscapeReport>>),
+}
+
+impl RunOutcome {
+    /// Whether the mission was interrupted, and if so what was kept (for the terminal).
+    pub fn interrupted(&self) -> Option<Interrupted> {
+        let (explored, path, recorded) = match self {
+            RunOutcome::Tour(r) => (&r.report.explored, &r.path, &r.recorded),
+            RunOutcome::Rbcm(r) => (&r.report.explored, &r.path, &r.recorded),
+            RunOutcome::Escape(r) => (&r.report.explored, &r.path, &r.recorded),
+        };
+        if !explored.completion.interrupted {
+            return None;
+        }
+        let mcap = recorded.as_ref().map_or(String::new(), |r| {
+            format!(" and the recording {} (finished)", r.file.display())
+        });
+        Some(Interrupted::new(format!(
+            "kept the report of the first {:.0} s simulated, {} (marked \"complete\": false){mcap}; run the command again for a whole mission",
+            explored.exploration_time_s,
+            path.display()
+        )))
+    }
 }
 
 impl fmt::Display for RunOutcome {

@@ -24,6 +24,9 @@ use strider_map::rect::WorldRect;
 use strider_scenario::{Scenario, SensorKind};
 use strider_sim::Simulator;
 
+use crate::cancel::Cancel;
+use crate::io::{finish_part, part_path};
+
 /// The horizontal field of view of each of the robot's sensors, degrees (360: omnidirectional).
 pub fn sensor_hfovs(robot: &strider_scenario::RobotProfile) -> Vec<f64> {
     robot
@@ -118,10 +121,21 @@ pub fn load(name_or_file: &str, world_seed: u64) -> Result<Scenario> {
     Ok(Scenario::from_name_or_file(name_or_file, world_seed)?)
 }
 
-/// Validates a `--time-limit` override.
+/// The most trials a bench runs per row or cell (`--trials`): 400 times Prágr22's 25, days of
+/// computing; the cap keeps a mistyped count from queueing billions of trials.
+pub const MAX_TRIALS: usize = 10_000;
+
+/// The longest mission time limit a command accepts, simulated s (about 11.6 days). The
+/// built-in scenarios end within 7200 s; a mission runs at a few hundred times real time, so
+/// this bounds one mission to hours of wall time while leaving room for much larger worlds.
+pub const MAX_TIME_LIMIT_S: f64 = 1e6;
+
+/// Validates a `--time-limit` override: finite, > 0 and at most [`MAX_TIME_LIMIT_S`].
 pub fn checked_time_limit(t: f64) -> Result<f64> {
-    if !(t.is_finite() && t > 0.0) {
-        bail!("--time-limit must be a positive number of seconds, got {t}");
+    if !(t.is_finite() && t > 0.0 && t <= MAX_TIME_LIMIT_S) {
+        bail!(
+            "--time-limit {t}: must be a finite number of simulated seconds > 0 and ≤ {MAX_TIME_LIMIT_S:e}"
+        );
     }
     Ok(t)
 }
@@ -135,53 +149,69 @@ pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<Mi
         .context("not a Prágr22 strategy")
 }
 
-/// Drives `mission` on the scenario's world (simulator seeded with `seed`), calling `observe`
-/// about once per simulated second; with `mcap`, records the robot's sensor stream and the
-/// mission's snapshots there (see `strider_log::recorder`) and returns what was written.
+/// Drives `mission` on the scenario's world (simulator seeded with `seed`) until it ends or
+/// `cancel` is requested, calling `observe` about once per simulated second; with `mcap`,
+/// records the robot's sensor stream and the mission's snapshots there (see
+/// `strider_log::recorder`) and returns what was written.
+///
+/// The recording is written to `<mcap>.part` and renamed to `mcap` once finished (summary and
+/// footer written): also when the mission is interrupted or fails, so that what was recorded
+/// stays readable. A recording that cannot be finished stays `.part`.
 pub fn drive<S: MissionStrategy>(
     sc: &Scenario,
     seed: u64,
     mission: &mut Mission<S>,
-    mcap: Option<&Path>,
+    (mcap, cancel): (Option<&Path>, &Cancel),
     mut observe: impl FnMut(&Mission<S>, &MissionProgress),
 ) -> Result<Option<WriteSummary>> {
+    cancel.watch(mission);
     let mut sim = Simulator::new(sc, seed)?;
     let Some(file) = mcap else {
         mission.run_watched(&mut sim, observe)?;
         return Ok(None);
     };
+    let part = part_path(file);
     let names = sc.robot.gaits.iter().map(|g| g.name.clone()).collect();
     let rec = Rc::new(RefCell::new(Recorder::create(
-        file,
+        &part,
         RecorderOptions::new(names),
     )?));
     let mut robot = Recording::new(sim, rec.clone());
-    mission.run_watched(&mut robot, |m, p| {
-        observe(m, p);
-        let layers = rec.borrow().grid_due();
-        rec.borrow_mut().snapshot(&m.snapshot(layers));
-    })?;
-    rec.borrow_mut().snapshot(&mission.snapshot(true));
+    let ran = mission
+        .run_watched(&mut robot, |m, p| {
+            observe(m, p);
+            let layers = rec.borrow().grid_due();
+            rec.borrow_mut().snapshot(&m.snapshot(layers));
+        })
+        .map(|_| ());
+    if ran.is_ok() {
+        rec.borrow_mut().snapshot(&mission.snapshot(true));
+    }
     drop(robot);
     let rec = Rc::try_unwrap(rec)
         .map_err(|_| anyhow::anyhow!("the recorder is still shared"))?
         .into_inner();
-    Ok(Some(rec.finish()?))
+    let finished = rec
+        .finish()
+        .map_err(anyhow::Error::from)
+        .and_then(|w| finish_part(&part, file).map(|()| w));
+    ran?;
+    Ok(Some(finished?))
 }
 
 /// Runs a mission of strategy `S` with `params` on the scenario's world (simulator seeded with
-/// `seed`), reporting progress about once per simulated second; with `mcap`, records it there
-/// (ROS 2 sensor stream and Foxglove visualisation, see `strider_log::recorder`) and returns
-/// what was written too.
+/// `seed`) until it ends or `cancel` is requested, reporting progress about once per simulated
+/// second; with `mcap`, records it there (ROS 2 sensor stream and Foxglove visualisation, see
+/// [`drive`]) and returns what was written too.
 pub fn run_strategy<S: FromParams>(
     sc: &Scenario,
     params: S::Params,
     seed: u64,
-    mcap: Option<&Path>,
+    watch: (Option<&Path>, &Cancel),
     mut progress: impl FnMut(&MissionProgress),
 ) -> Result<(Mission<S>, Option<WriteSummary>)> {
     let mut mission = S::mission(params)?;
-    let written = drive(sc, seed, &mut mission, mcap, |_, p| progress(p))?;
+    let written = drive(sc, seed, &mut mission, watch, |_, p| progress(p))?;
     Ok((mission, written))
 }
 
@@ -190,17 +220,27 @@ pub fn run_mission(
     sc: &Scenario,
     params: MissionParams,
     seed: u64,
-    mcap: Option<&Path>,
+    watch: (Option<&Path>, &Cancel),
     progress: impl FnMut(&MissionProgress),
 ) -> Result<(Mission<TourExplorer>, MissionLog, Option<WriteSummary>)> {
-    let (mission, written) = run_strategy::<TourExplorer>(sc, params, seed, mcap, progress)?;
+    let (mission, written) = run_strategy::<TourExplorer>(sc, params, seed, watch, progress)?;
     let log = mission.strategy().log().clone();
     Ok((mission, log, written))
 }
 
+/// Why `mission` stopped, for reports: its [`strider_explore::Termination`], or `Interrupted`
+/// when the cancellation flag stopped it.
+pub fn termination<S: MissionStrategy>(mission: &Mission<S>) -> String {
+    if mission.interrupted() {
+        "Interrupted".to_string()
+    } else {
+        format!("{:?}", mission.record().termination)
+    }
+}
+
 /// Where a trial of a bench ran and how its exploration ended: the first fields of every
 /// trial's record.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TrialRecord {
     /// Scenario.
     pub scenario: String,
@@ -231,7 +271,7 @@ impl TrialRecord {
             strategy: strategy.to_string(),
             world_seed,
             seed,
-            termination: format!("{:?}", mission.record().termination),
+            termination: termination(mission),
             exploration_time_s: mission.record().exploration_time_s,
             observed_cells: mission.body().map().observed_count(),
         }

@@ -6,6 +6,7 @@
 //! asserts for these seeds (measured: `strider run --scenario escape-arena --strategy escape
 //! --seed 3` finds section 3 at 918 s), so no assertion depends on wall time.
 
+use strider_experiments::cancel::Cancel;
 use strider_experiments::pragr23::trial::{escape_params, run_escape};
 use strider_explore::escape::EscapeMode;
 use strider_scenario::builtin;
@@ -19,7 +20,7 @@ fn rigid_explores_the_office_only() {
     let sc = arena();
     let mut p = escape_params(&sc, EscapeMode::Rigid, &[]).unwrap();
     p.time_limit_s = 400.0;
-    let trial = run_escape(&sc, p, 1, None, |_| {}).unwrap();
+    let trial = run_escape(&sc, p, 1, (None, &Cancel::new()), |_| {}).unwrap();
     assert_eq!(trial.sections.len(), 3);
     assert!(trial.sections[0].explored, "{:?}", trial.sections);
     assert!(!trial.sections[1].explored && !trial.sections[2].explored);
@@ -42,7 +43,7 @@ fn escape_samples_a_rigid_obstacle_then_the_uncertain_curtain_and_leaves() {
     p.time_limit_s = 950.0;
     let thr = p.predictor.entropy_threshold;
     let f_trav = p.haptic.f_trav;
-    let trial = run_escape(&sc, p, 3, None, |_| {}).unwrap();
+    let trial = run_escape(&sc, p, 3, (None, &Cancel::new()), |_| {}).unwrap();
     let c = &trial.log.contacts;
     assert!(c.len() >= 2, "{c:?}");
     // First contact: rigid, no predictor existed.
@@ -119,7 +120,7 @@ fn escape_samples_the_curtain_first_then_corrects_an_over_optimistic_wall() {
     // Measured with this construction: the curtain at 36 s, the corrected wall push at 146 s.
     p.time_limit_s = 170.0;
     let (f_trav, thr) = (p.haptic.f_trav, p.predictor.entropy_threshold);
-    let trial = run_escape(&sc, p, 1, None, |_| {}).unwrap();
+    let trial = run_escape(&sc, p, 1, (None, &Cancel::new()), |_| {}).unwrap();
     let c = &trial.log.contacts;
     assert!(!c.is_empty());
     assert!(c[0].force < f_trav && c[0].predicted.is_none(), "{c:?}");

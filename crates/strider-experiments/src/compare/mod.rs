@@ -31,11 +31,13 @@ use strider_explore::registry::{self, RobotSpec, StrategyInfo};
 use strider_explore::shadow::Shadowed;
 use strider_scenario::Scenario;
 
+use crate::cancel::{Cancel, Completion};
 use crate::io::{create_dir, write_json, write_text};
-use crate::parallel::pool;
+use crate::parallel::{MAX_JOBS, pool};
 use crate::stats::Summary;
 use crate::trial::{
-    Learned, TrialRecord, checked_time_limit, configure, drive, robot_spec, run_tours_with, section,
+    Learned, MAX_TRIALS, TrialRecord, checked_time_limit, configure, drive, robot_spec,
+    run_tours_with, section,
 };
 pub use table::markdown;
 use table::{pair_tests, summarise};
@@ -93,6 +95,8 @@ pub struct CompareOptions {
     pub jobs: usize,
     /// Mission time limit override, simulated seconds.
     pub time_limit: Option<f64>,
+    /// Stops the comparison early: running trials stop, the finished ones are compared.
+    pub cancel: Cancel,
 }
 
 /// One model's learned-cost error.
@@ -168,6 +172,10 @@ pub struct PairTest {
 /// The comparison.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Comparison {
+    /// Whether every trial finished, or the comparison was interrupted (then the cells and
+    /// tests are of the trials finished so far).
+    #[serde(flatten)]
+    pub completion: Completion,
     /// Trials per cell.
     pub trials_per_cell: usize,
     /// World seeds cycled through.
@@ -187,8 +195,8 @@ struct Task<'a> {
     seed: u64,
 }
 
-/// Runs the comparison (trials side by side on `jobs` threads); `on_trial` is called after
-/// every trial.
+/// Runs the comparison (trials side by side on `jobs` threads) until it is done or
+/// `o.cancel` is requested; `on_trial` is called after every finished trial.
 pub fn run(
     o: &CompareOptions,
     entrants: &[Entrant],
@@ -196,22 +204,29 @@ pub fn run(
 ) -> Result<Comparison> {
     check(o, entrants)?;
     let (tasks, skipped) = tasks(o, entrants)?;
-    let trials: Vec<CompareTrial> = pool(o.jobs)?.install(|| {
+    let finished: Vec<Option<CompareTrial>> = pool(o.jobs)?.install(|| {
         tasks
             .par_iter()
             .with_max_len(1)
-            .map(|t| {
-                let r = run_trial(t, o.time_limit).with_context(|| {
+            .map(|t| -> Result<Option<CompareTrial>> {
+                if o.cancel.requested() {
+                    return Ok(None);
+                }
+                let r = run_trial(t, o).with_context(|| {
                     format!(
                         "{} on {} world seed {} seed {}",
                         t.entrant.name, t.scenario, t.world_seed, t.seed
                     )
-                });
-                on_trial();
-                r
+                })?;
+                if r.is_some() {
+                    on_trial();
+                }
+                Ok(r)
             })
             .collect::<Result<Vec<_>>>()
     })?;
+    let trials: Vec<CompareTrial> = finished.into_iter().flatten().collect();
+    let completion = Completion::of(trials.len() < tasks.len());
     let mut cells = Vec::new();
     for name in &o.scenarios {
         for e in entrants {
@@ -224,6 +239,7 @@ pub fn run(
         }
     }
     Ok(Comparison {
+        completion,
         trials_per_cell: o.trials,
         world_seeds: o.world_seeds,
         tests: pair_tests(&o.scenarios, entrants, &trials),
@@ -239,8 +255,8 @@ fn check(o: &CompareOptions, entrants: &[Entrant]) -> Result<()> {
     if o.trials == 0 || o.world_seeds == 0 || o.jobs == 0 {
         bail!("--trials, --world-seeds and --jobs must be at least 1");
     }
-    if o.jobs > 256 || o.trials > 100_000 {
-        bail!("--jobs must be at most 256 and --trials at most 100000");
+    if o.jobs > MAX_JOBS || o.trials > MAX_TRIALS {
+        bail!("--jobs must be at most {MAX_JOBS} and --trials at most {MAX_TRIALS}");
     }
     if entrants.is_empty() || o.scenarios.is_empty() {
         bail!("give at least one scenario and one strategy");
@@ -293,11 +309,13 @@ fn fits(sc: &Scenario, e: &Entrant) -> std::result::Result<(), String> {
     }
 }
 
-fn run_trial(t: &Task, time_limit: Option<f64>) -> Result<CompareTrial> {
+/// One trial; `None` when it was interrupted.
+fn run_trial(t: &Task, o: &CompareOptions) -> Result<Option<CompareTrial>> {
+    let cancel = &o.cancel;
     let wall = std::time::Instant::now();
     let sc = Scenario::from_name_or_file(t.scenario, t.world_seed)?;
     let mut robot = robot_spec(&sc);
-    if let Some(limit) = time_limit {
+    if let Some(limit) = o.time_limit {
         robot.time_limit_s = limit;
     }
     let (body, strategy) = (t.entrant.build)(&sc, &robot, t.seed)?;
@@ -307,7 +325,10 @@ fn run_trial(t: &Task, time_limit: Option<f64>) -> Result<CompareTrial> {
         .context("gtsp has no Prágr22 learner")?;
     let learner = TourExplorer::new(learner_params)?;
     let mut mission = Mission::new(body, Shadowed::new(strategy, learner))?;
-    drive(&sc, t.seed, &mut mission, None, |_, _| {})?;
+    drive(&sc, t.seed, &mut mission, (None, cancel), |_, _| {})?;
+    if mission.interrupted() {
+        return Ok(None);
+    }
     let snap = mission.snapshot(true);
     let learner = mission.strategy().learner();
     let tours = run_tours_with(
@@ -323,7 +344,7 @@ fn run_trial(t: &Task, time_limit: Option<f64>) -> Result<CompareTrial> {
     )?;
     let tour = tours.first();
     let result = tour.and_then(|(_, r)| r.first());
-    Ok(CompareTrial {
+    Ok(Some(CompareTrial {
         trial: TrialRecord::of(
             t.scenario,
             &t.entrant.name,
@@ -335,7 +356,7 @@ fn run_trial(t: &Task, time_limit: Option<f64>) -> Result<CompareTrial> {
         tour_time_s: result.map(|r| r.total_s),
         tour_completed: result.map(|r| r.completed),
         wall_s: wall.elapsed().as_secs_f64(),
-    })
+    }))
 }
 
 /// Writes `compare.json` (everything) and `compare.md` (the tables) into `out`.

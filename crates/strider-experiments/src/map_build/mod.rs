@@ -22,7 +22,7 @@ use strider_sim::Simulator;
 use strider_sim::coverage::coverage_path;
 
 use crate::io::{create_dir, write_json};
-use crate::trial::load;
+use crate::trial::{checked_time_limit, load};
 pub use score::MapStats;
 
 /// Options of `strider map build`.
@@ -176,8 +176,13 @@ fn drive(sc: &Scenario, seed: u64, lane: f64, time_limit: Option<f64>) -> Result
     })
 }
 
-/// The first range sensor and the lane spacing, checked.
-fn check(sc: &Scenario, lane_spacing: Option<f64>) -> Result<(&SensorSpec, f64)> {
+/// The widest `--lane-spacing`, m. Lanes wider than the world are one lane, so the spacing is
+/// also capped at the world's longer side (the coverage path marks a disc of half the spacing
+/// around every lane cell).
+pub const MAX_LANE_SPACING_M: f64 = 1000.0;
+
+/// The first range sensor and the lane spacing (at most the world's longer side), checked.
+fn check<'a>(sc: &'a Scenario, o: &MapBuildOptions) -> Result<(&'a SensorSpec, f64)> {
     let Some(sensor) = sc.robot.sensors.first() else {
         bail!(
             "scenario {}: robot profile {} has no range sensor to build a map with",
@@ -185,10 +190,26 @@ fn check(sc: &Scenario, lane_spacing: Option<f64>) -> Result<(&SensorSpec, f64)>
             sc.robot.name
         );
     };
-    let lane = lane_spacing.unwrap_or(0.4 * sensor.range);
-    if !(lane.is_finite() && lane > 0.0) {
-        bail!("--lane-spacing must be a positive number of metres, got {lane}");
+    if let Some(t) = o.time_limit {
+        checked_time_limit(t)?;
     }
+    if let Some(lane) = o.lane_spacing
+        && !(lane.is_finite() && lane > 0.0 && lane <= MAX_LANE_SPACING_M)
+    {
+        bail!(
+            "--lane-spacing {lane}: must be a finite number of metres > 0 and ≤ {MAX_LANE_SPACING_M}"
+        );
+    }
+    let lane = o.lane_spacing.unwrap_or(0.4 * sensor.range);
+    if !(lane.is_finite() && lane > 0.0) {
+        bail!(
+            "scenario {}: the lane spacing 0.4 × sensor range = {lane} m is not a positive number of metres; give --lane-spacing",
+            sc.name
+        );
+    }
+    let w = &sc.world;
+    let side = f64::from(w.rect.width.max(w.rect.height)) * w.resolution;
+    let lane = lane.min(side.max(w.resolution));
     if (sc.map.cell_size - sc.world.resolution).abs() > 1e-9 {
         bail!(
             "scenario {}: map cell size {} m differs from the world resolution {} m; map build scores cell by cell and needs them equal",
@@ -231,9 +252,16 @@ impl fmt::Display for MapBuild {
 pub fn build(o: &MapBuildOptions) -> Result<MapBuild> {
     let wall = Instant::now();
     let sc = load(&o.scenario, o.world_seed)?;
-    let (sensor, lane) = check(&sc, o.lane_spacing)?;
-    create_dir(&o.out)?;
+    let (sensor, lane) = check(&sc, o)?;
     let d = drive(&sc, o.seed, lane, o.time_limit)?;
+    if d.sink.map.observed_count() == 0 {
+        bail!(
+            "scenario {}: the drive observed no map cell in {} s simulated, so there is no map to score; give a longer --time-limit",
+            sc.name,
+            d.sim.now()
+        );
+    }
+    create_dir(&o.out)?;
     let score = score::Score::of(&sc, sensor, &d.sink.map, &d.sink.scan_poses);
     figures::write(&sc, &d.sink.map, &score, &d.sink.trajectory, &o.out)?;
     let stats = MapStats::new(&sc, o.seed, &d, &score, wall);

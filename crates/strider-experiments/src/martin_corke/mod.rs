@@ -61,6 +61,15 @@ pub(crate) const MIN_DROP: f64 = 0.30;
 pub(crate) const MAX_CONVERGENCE_TOUR: usize = 10;
 pub(crate) const OVERTAKE_BEFORE: usize = 10;
 
+/// The most noise seeds `strider tours` runs (`--seeds`): each seed is three full tour series
+/// with their figures; 1000 is far beyond an acceptance sweep (10) and keeps a mistyped count
+/// from queueing (and allocating for) billions of runs.
+pub const MAX_SEEDS: u64 = 1000;
+
+/// The most tours per series (`--tours`, `n_tours`): MartinCorke drives 25; every tour is a
+/// drive of the whole route and a GP refit, and the series is held in memory.
+pub const MAX_TOURS: usize = 10_000;
+
 /// Options of `strider tours`.
 #[derive(Clone, Debug)]
 pub struct ToursOptions {
@@ -125,10 +134,11 @@ pub fn tour_params(sc: &Scenario, n_tours: Option<usize>) -> Result<EnergyTourPa
     let table = section(sc, "tours")?.cloned().unwrap_or_default();
     let from_table = table.get("n_tours").and_then(|v| v.as_integer());
     p.n_tours = match (n_tours, from_table) {
-        (Some(n), _) => n,
-        (None, Some(n)) if n > 0 => n as usize,
+        (Some(n), _) if (1..=MAX_TOURS).contains(&n) => n,
+        (Some(n), _) => bail!("--tours {n}: must be an integer from 1 to {MAX_TOURS}"),
+        (None, Some(n)) if (1..=MAX_TOURS as i64).contains(&n) => n as usize,
         (None, Some(n)) => bail!(
-            "scenario {}: strategy.n_tours = {n} must be positive",
+            "scenario {}: strategy.tours.n_tours = {n}: must be an integer from 1 to {MAX_TOURS}",
             sc.name
         ),
         (None, None) => 25,
@@ -261,11 +271,19 @@ impl fmt::Display for SeedLine {
 
 /// Runs `strider tours`; returns one line per seed.
 pub fn tours(o: &ToursOptions) -> Result<Vec<SeedLine>> {
-    if o.seeds == 0 {
-        bail!("--seeds must be at least 1");
+    if !(1..=MAX_SEEDS).contains(&o.seeds) {
+        bail!(
+            "--seeds {}: must be an integer from 1 to {MAX_SEEDS}",
+            o.seeds
+        );
     }
-    if o.tours == Some(0) {
-        bail!("--tours must be at least 1");
+    if o.seed.checked_add(o.seeds - 1).is_none() {
+        bail!(
+            "--seed {} with --seeds {}: the last seed would pass {}",
+            o.seed,
+            o.seeds,
+            u64::MAX
+        );
     }
     let sc = load(&o.scenario, o.world_seed)?;
     let p = tour_params(&sc, o.tours).with_context(|| format!("scenario {}", sc.name))?;

@@ -170,18 +170,130 @@ impl NavigateOptions {
     }
 }
 
+/// The most runs per task (`--runs`; Nardi19: 25). Each run is a drive of the task and a refit
+/// of the model on everything observed so far.
+pub const MAX_RUNS: usize = 1000;
+
+/// The most mission seeds per site (`--seeds`; the acceptance sweep uses 10).
+pub const MAX_SEEDS: u64 = 1000;
+
+/// The most sites (`--sites`); each holds its scenario, grid map and true fields in memory.
+pub const MAX_SITES: usize = 100;
+
+/// The largest λ of the lower confidence bound μ − λσ (`--lambda`; decision 26 uses 1): beyond
+/// a few σ the bound ignores the mean altogether.
+pub const MAX_LAMBDA: f64 = 100.0;
+
+/// The most memory the navigations' model fields may take, bytes (4 GiB). Every navigation
+/// keeps its model after every run (μ and σ per grid cell, 8 bytes) for the accuracy curves
+/// and the figures, so this grows with navigations × runs × cells.
+pub const MAX_FIELD_BYTES: u64 = 4 << 30;
+
 fn check(o: &NavigateOptions) -> Result<()> {
-    if o.runs == 0 {
-        bail!("--runs must be at least 1");
+    if !(1..=MAX_RUNS).contains(&o.runs) {
+        bail!("--runs {}: must be an integer from 1 to {MAX_RUNS}", o.runs);
     }
-    if o.seeds == 0 {
-        bail!("--seeds must be at least 1");
+    if !(1..=MAX_SEEDS).contains(&o.seeds) {
+        bail!(
+            "--seeds {}: must be an integer from 1 to {MAX_SEEDS}",
+            o.seeds
+        );
     }
-    if !(o.lambda.is_finite() && o.lambda >= 0.0) {
-        bail!("--lambda must be a non-negative number, got {}", o.lambda);
+    if o.seed.checked_add(o.seeds - 1).is_none() {
+        bail!(
+            "--seed {} with --seeds {}: the last seed would pass {}",
+            o.seed,
+            o.seeds,
+            u64::MAX
+        );
+    }
+    if !(o.lambda.is_finite() && (0.0..=MAX_LAMBDA).contains(&o.lambda)) {
+        bail!(
+            "--lambda {}: must be a finite number from 0 to {MAX_LAMBDA}",
+            o.lambda
+        );
     }
     if o.sites.is_empty() || o.objectives.is_empty() {
         bail!("give at least one site and one objective");
+    }
+    if o.sites.len() > MAX_SITES {
+        bail!("--sites lists {} sites: at most {MAX_SITES}", o.sites.len());
+    }
+    Ok(())
+}
+
+/// Checks that every site's terrains carry the signal of every objective the experiments
+/// minimise (a field of zeros would be learnt as zero everywhere, and every cost ratio would
+/// be 0/0).
+fn check_signals(o: &NavigateOptions, sites: &[Site]) -> Result<()> {
+    for site in sites {
+        for (task, _) in &site.tasks {
+            for &objective in objectives(o, *task) {
+                if provides(&site.scenario, objective) {
+                    continue;
+                }
+                let has: Vec<&str> = [Objective::Vibration, Objective::Energy]
+                    .into_iter()
+                    .filter(|&ob| provides(&site.scenario, ob))
+                    .map(Objective::name)
+                    .collect();
+                let what = match task {
+                    Task::StartGoal => format!("--objectives {}", objective.name()),
+                    Task::Locations => "the locations task (minimises vibration)".to_string(),
+                };
+                bail!(
+                    "{what}: scenario {} (world seed {}) has no {} signal (its terrains' `{}` is 0 or not a finite non-negative number everywhere); it provides {}",
+                    site.scenario.name,
+                    site.world_seed,
+                    objective.name(),
+                    field_key(objective),
+                    if has.is_empty() {
+                        "neither vibration nor energy".to_string()
+                    } else {
+                        has.join(", ")
+                    }
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The objectives the experiment `task` minimises.
+fn objectives(o: &NavigateOptions, task: Task) -> &[Objective] {
+    match task {
+        Task::StartGoal => &o.objectives,
+        Task::Locations => &[Objective::Vibration],
+    }
+}
+
+/// The terrain key of an objective's true field.
+fn field_key(objective: Objective) -> &'static str {
+    match objective {
+        Objective::Vibration => "vibration",
+        Objective::Energy => "energy_per_m",
+    }
+}
+
+/// Whether the scenario's world carries `objective`: its true field finite and non-negative
+/// on every cell and positive somewhere.
+fn provides(sc: &strider_scenario::Scenario, objective: Objective) -> bool {
+    let f = true_field(sc, objective);
+    f.iter().all(|v| v.is_finite() && *v >= 0.0) && f.iter().any(|&v| v > 0.0)
+}
+
+/// Checks the memory the model fields of `navigations` navigations will keep.
+fn check_memory(o: &NavigateOptions, navigations: usize, sites: &[Site]) -> Result<()> {
+    let cells = sites.iter().map(|s| s.map.rect().len()).max().unwrap_or(0);
+    let bytes = [navigations, o.runs, cells, 8]
+        .into_iter()
+        .try_fold(1u64, |acc, n| acc.checked_mul(u64::try_from(n).ok()?));
+    if bytes.is_none_or(|b| b > MAX_FIELD_BYTES) {
+        bail!(
+            "{navigations} navigations × --runs {} × {cells} cells would keep more than {} GiB of model fields: use fewer --runs, --seeds, --sites or --objectives",
+            o.runs,
+            MAX_FIELD_BYTES >> 30
+        );
     }
     Ok(())
 }
@@ -196,7 +308,7 @@ pub fn run(o: &NavigateOptions, progress: &dyn Progress) -> Result<Navigation> {
         .iter()
         .map(|&ws| site::prepare(&o.scenario, ws, aerial_png.as_ref(), o.aerial.as_deref()))
         .collect::<Result<Vec<Site>>>()?;
-    create_dir(&o.out)?;
+    check_signals(o, &sites)?;
     let jobs = jobs(o, &sites);
     let units: Vec<(usize, Config)> = jobs
         .iter()
@@ -205,6 +317,8 @@ pub fn run(o: &NavigateOptions, progress: &dyn Progress) -> Result<Navigation> {
             configs(task, objective).into_iter().map(move |c| (g, c))
         })
         .collect();
+    check_memory(o, units.len(), &sites)?;
+    create_dir(&o.out)?;
     progress.start((units.len() * o.runs) as u64);
     let logs = navigate_all(o, &sites, &jobs, &units, progress);
     let groups = groups(&sites, &jobs, &units, logs)?;
@@ -233,13 +347,9 @@ pub fn run(o: &NavigateOptions, progress: &dyn Progress) -> Result<Navigation> {
 fn jobs(o: &NavigateOptions, sites: &[Site]) -> Vec<Job> {
     let mut jobs = Vec::new();
     for (si, site) in sites.iter().enumerate() {
-        for seed in o.seed..o.seed + o.seeds {
+        for seed in o.seed..=o.seed + (o.seeds - 1) {
             for (task, _) in &site.tasks {
-                let objs: &[Objective] = match task {
-                    Task::StartGoal => &o.objectives,
-                    Task::Locations => &[Objective::Vibration],
-                };
-                for &objective in objs {
+                for &objective in objectives(o, *task) {
                     jobs.push((si, seed, *task, objective));
                 }
             }

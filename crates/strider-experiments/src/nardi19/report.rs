@@ -160,7 +160,7 @@ impl NavigateReport {
         Self {
             scenario: o.scenario.clone(),
             sites: o.sites.clone(),
-            seeds: (o.seed..o.seed + o.seeds).collect(),
+            seeds: (o.seed..=o.seed + (o.seeds - 1)).collect(),
             runs: o.runs,
             lambda: o.lambda,
             definitions: DEFINITIONS,

@@ -38,6 +38,14 @@ use crate::stats::max;
 use crate::trial::section;
 pub use table::{C1Best, C1Cell, C1Report, PUBLISHED_C1, PassPairs};
 
+/// The most C1 trials pooled per cell (`--c1-runs`; 3 by default): each is two drives of the
+/// lane recorded in memory.
+pub const MAX_C1_RUNS: usize = 1000;
+
+/// The most pairs per C1 pass (`--c1-pairs`): the whole lane of cot-track yields far fewer, so
+/// larger counts mean the whole lane.
+pub const MAX_C1_PAIRS: usize = 100_000;
+
 /// Options of the C1 protocol.
 #[derive(Clone, Debug)]
 pub struct C1Options {
@@ -67,8 +75,25 @@ impl C1Options {
 
     /// Checks the options before anything runs.
     pub fn check(&self) -> Result<()> {
-        if self.runs == 0 {
-            bail!("--c1-runs must be at least 1");
+        if !(1..=MAX_C1_RUNS).contains(&self.runs) {
+            bail!(
+                "--c1-runs {}: must be an integer from 1 to {MAX_C1_RUNS}",
+                self.runs
+            );
+        }
+        if self.pairs > MAX_C1_PAIRS {
+            bail!(
+                "--c1-pairs {}: must be an integer from 0 (the whole lane) to {MAX_C1_PAIRS}",
+                self.pairs
+            );
+        }
+        if self.seed.checked_add(self.runs as u64).is_none() {
+            bail!(
+                "--seed {} with --c1-runs {}: the last trial's seed would pass {}",
+                self.seed,
+                self.runs,
+                u64::MAX
+            );
         }
         Ok(())
     }

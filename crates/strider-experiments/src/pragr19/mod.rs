@@ -30,11 +30,37 @@ pub struct StreamOptions {
     pub out: PathBuf,
 }
 
+/// The most repetitions of the stream protocol (`--reps`; Prágr19: 100). Every repetition's
+/// learning curves are kept for the report.
+pub const MAX_REPS: usize = 1000;
+
+/// The most recorded streams (`--streams`); each is a simulated drive held in memory.
+pub const MAX_STREAMS: usize = 1000;
+
+/// The most pairs per stream (`--pairs`; Prágr19: 292). The full GP of the benchmark costs
+/// O(n²) memory and O(n³) time over a stream of n pairs: 2000 pairs take about a minute.
+pub const MAX_PAIRS: usize = 2000;
+
 impl StreamOptions {
     /// Checks the options before anything runs.
     pub fn check(&self) -> Result<()> {
-        if self.reps == 0 || self.streams == 0 || self.pairs < 2 {
-            bail!("--reps and --streams must be at least 1 and --pairs at least 2");
+        let ranges = [
+            ("--reps", self.reps, 1, MAX_REPS),
+            ("--streams", self.streams, 1, MAX_STREAMS),
+            ("--pairs", self.pairs, 2, MAX_PAIRS),
+        ];
+        for (flag, v, lo, hi) in ranges {
+            if !(lo..=hi).contains(&v) {
+                bail!("{flag} {v}: must be an integer from {lo} to {hi}");
+            }
+        }
+        if self.seed.checked_add(self.streams as u64).is_none() {
+            bail!(
+                "--seed {} with --streams {}: the last stream's seed would pass {}",
+                self.seed,
+                self.streams,
+                u64::MAX
+            );
         }
         Ok(())
     }

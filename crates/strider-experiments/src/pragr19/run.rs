@@ -122,7 +122,7 @@ pub fn run(
     for w in &warnings {
         progress.warn(w);
     }
-    let (mission, written) = run_strategy::<RbcmGreedy>(sc, params, req.seed, req.mcap, |p| {
+    let (mission, written) = run_strategy::<RbcmGreedy>(sc, params, req.seed, req.watch(), |p| {
         progress.at(p.time_s as u64, &learning_message(p));
     })?;
     let ex = mission.strategy();

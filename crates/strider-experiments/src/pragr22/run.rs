@@ -34,18 +34,23 @@ pub fn run_tour(
         bail!("{} is not a Prágr22 strategy", configured.name());
     };
     start(req, &mut params.time_limit_s, progress)?;
-    let (mission, log, written) = run_mission(sc, params, req.seed, req.mcap, |p| {
+    let (mission, log, written) = run_mission(sc, params, req.seed, req.watch(), |p| {
         progress.at(p.time_s as u64, &goals_message(p));
     })?;
-    let tours = run_tours(
-        sc,
-        &mission,
-        req.seed,
-        &NavigationMode::ALL,
-        |tour, mode| {
-            progress.phase(&format!("tour {tour} with {} navigation", mode.name()));
-        },
-    )?;
+    // An interrupted mission's report is written at once, without the tours.
+    let tours = if mission.interrupted() {
+        Vec::new()
+    } else {
+        run_tours(
+            sc,
+            &mission,
+            req.seed,
+            &NavigationMode::ALL,
+            |tour, mode| {
+                progress.phase(&format!("tour {tour} with {} navigation", mode.name()));
+            },
+        )?
+    };
     let figures = write_figures(&mission, &tours, req.out)?;
     let report = report(sc, req, configured, (&mission, &log), &tours, wall);
     let path = write_reports(req.out, &report, &figures, &tours)?;

@@ -22,10 +22,12 @@ use std::time::Instant;
 use anyhow::{Result, bail};
 
 use super::table5_report::{Table5Report, markdown};
-use super::table5_trials::{Table5Options, run_trials, tasks};
+use super::table5_trials::{Table5Options, kept, run_trials, setting, sort, tasks};
+use crate::cancel::Completion;
 use crate::io::{create_dir, write_json, write_text};
+use crate::journal::Journal;
 use crate::progress::Progress;
-use crate::trial::checked_time_limit;
+use crate::trial::{MAX_TRIALS, checked_time_limit};
 
 /// The table written: `table5.json`, `table5.md` (also returned, for the terminal).
 pub struct Table5 {
@@ -35,31 +37,65 @@ pub struct Table5 {
     pub json: PathBuf,
     /// `table5.md`.
     pub md: PathBuf,
+    /// Trials in the table, of `total`; fewer when interrupted (the files then hold the table
+    /// of the finished trials, marked `"complete": false`, and none are written when no trial
+    /// finished).
+    pub finished: usize,
+    /// Trials the table needs.
+    pub total: usize,
+    /// Where every finished trial is kept (`OUT/trials`), for `--resume`.
+    pub trials_dir: PathBuf,
 }
 
-/// Runs `strider bench table5` into `out`.
+impl Table5 {
+    /// Whether every trial finished.
+    pub fn complete(&self) -> bool {
+        self.finished == self.total
+    }
+}
+
+/// Runs `strider bench table5` into `out`: the trials (those kept by an earlier run too, with
+/// `o.resume`), each kept in `out/trials` as it finishes, then the table.
 pub fn table5(o: &Table5Options, out: &Path, progress: &dyn Progress) -> Result<Table5> {
     check(o)?;
-    create_dir(out)?;
+    let journal = Journal::open(out, setting(o), o.resume)?;
     if let Some(dir) = &o.mcap_dir {
         create_dir(dir)?;
     }
     let wall = Instant::now();
     let tasks = tasks(o);
-    progress.start(tasks.len() as u64);
-    let trials = run_trials(o, &tasks, progress)?;
-    let report = Table5Report::new(o, trials, wall);
+    let (mut trials, todo) = kept(o, &tasks, &journal, progress)?;
+    progress.start(todo.len() as u64);
+    trials.extend(run_trials(o, &todo, &journal, progress)?);
+    sort(&mut trials);
+    let (finished, total) = (trials.len(), tasks.len());
     let json = out.join("table5.json");
-    write_json(&json, &report)?;
-    let markdown = markdown(&report);
     let md = out.join("table5.md");
-    write_text(&md, &markdown)?;
-    Ok(Table5 { markdown, json, md })
+    let report = Table5Report::new(o, trials, wall, Completion::of(finished < total));
+    let markdown = markdown(&report);
+    if finished > 0 {
+        create_dir(out)?;
+        write_json(&json, &report)?;
+        write_text(&md, &markdown)?;
+    }
+    Ok(Table5 {
+        markdown,
+        json,
+        md,
+        finished,
+        total,
+        trials_dir: journal.dir().to_path_buf(),
+    })
 }
 
 fn check(o: &Table5Options) -> Result<()> {
     if o.trials == 0 || o.world_seeds == 0 || o.jobs == 0 {
         bail!("--trials, --world-seeds and --jobs must be at least 1");
+    }
+    for (flag, n) in [("--trials", o.trials), ("--large-trials", o.large_trials)] {
+        if n > MAX_TRIALS {
+            bail!("{flag} {n}: must be an integer from 1 to {MAX_TRIALS}");
+        }
     }
     if let Some(t) = o.time_limit {
         checked_time_limit(t)?;

@@ -10,6 +10,7 @@ use strider_explore::Strategy;
 use strider_explore::evaluate::NavigationMode;
 
 use super::table5_trials::{Table5Options, TrialResult};
+use crate::cancel::Completion;
 use crate::stats::{MeanStd, Summary, mann_whitney_u, max, median_max, paired_win_fraction};
 
 /// Published values (Prágr22 Table 5): row, mean, std.
@@ -178,6 +179,10 @@ pub struct LargeReplanMs {
 /// `table5.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct Table5Report {
+    /// Whether every trial finished, or the bench was interrupted (then the rows hold the
+    /// trials finished so far; `--resume` completes them).
+    #[serde(flatten)]
+    pub completion: Completion,
     /// The options the table was run with.
     #[serde(flatten)]
     pub options: Table5Options,
@@ -194,7 +199,12 @@ pub struct Table5Report {
 }
 
 impl Table5Report {
-    pub(crate) fn new(o: &Table5Options, trials: Vec<TrialResult>, wall: Instant) -> Self {
+    pub(crate) fn new(
+        o: &Table5Options,
+        trials: Vec<TrialResult>,
+        wall: Instant,
+        completion: Completion,
+    ) -> Self {
         let rows = rows(&trials);
         let large: Vec<&TrialResult> = trials
             .iter()
@@ -203,6 +213,7 @@ impl Table5Report {
         let medians: Vec<f64> = large.iter().map(|t| t.replan_ms_median).collect();
         let worst: Vec<f64> = large.iter().map(|t| t.replan_ms_max).collect();
         Self {
+            completion,
             options: o.clone(),
             relations: relations(&rows),
             rows,
@@ -235,6 +246,13 @@ pub fn markdown(r: &Table5Report) -> String {
         r.wall_s,
         o.jobs
     );
+    if r.completion.interrupted {
+        let _ = writeln!(
+            md,
+            "**Incomplete**: interrupted after {} trials; `--resume` runs the rest.\n",
+            r.trial_results.len()
+        );
+    }
     let _ = writeln!(md, "| experiment | ours | published | incomplete tours |");
     let _ = writeln!(md, "|---|---|---|---|");
     for row in &r.rows {

@@ -1,15 +1,17 @@
 //! The trials of the Prágr22 Table 5 bench: which experiments to run, and running them side by
 //! side on a thread pool.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use strider_explore::Strategy;
 use strider_explore::evaluate::NavigationMode;
 
+use crate::cancel::Cancel;
+use crate::journal::{Journal, Kept};
 use crate::parallel::pool;
 use crate::progress::Progress;
 use crate::stats::median_max;
@@ -32,6 +34,13 @@ pub struct Table5Options {
     /// Record every trial's mission to `DIR/<scenario>-<strategy>-w<world>-s<seed>.mcap`.
     #[serde(skip)]
     pub mcap_dir: Option<PathBuf>,
+    /// Reuse the trials an earlier run with the same options finished (`OUT/trials`) and run
+    /// only the missing ones; without it, earlier trial files are removed first.
+    #[serde(skip)]
+    pub resume: bool,
+    /// Stops the bench early: running trials stop, finished ones are kept.
+    #[serde(skip)]
+    pub cancel: Cancel,
 }
 
 /// One experiment to run: a world, a strategy, a seed, and which tour modes to drive after.
@@ -45,7 +54,7 @@ pub(crate) struct Task {
 }
 
 /// What one trial measured.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct TrialResult {
     /// Where it ran and how the exploration ended.
     #[serde(flatten)]
@@ -106,63 +115,115 @@ pub(crate) fn tasks(o: &Table5Options) -> Vec<Task> {
     tasks
 }
 
-/// Runs the trials on `o.jobs` threads; the results sorted by scenario, strategy and seed.
+impl Task {
+    /// The trial's name in the journal and in errors.
+    fn key(&self) -> String {
+        format!(
+            "{}-{}-w{}-s{}",
+            self.scenario,
+            self.strategy.name(),
+            self.world_seed,
+            self.seed
+        )
+    }
+}
+
+/// What else than its task decides a trial's result (the journal's setting).
+pub(crate) fn setting(o: &Table5Options) -> serde_json::Value {
+    serde_json::json!({ "bench": "table5", "time_limit_s": o.time_limit })
+}
+
+/// The trials of `tasks` an earlier run kept in `journal` (when resuming), and the tasks left.
+pub(crate) fn kept<'a>(
+    o: &Table5Options,
+    tasks: &'a [Task],
+    journal: &Journal,
+    progress: &dyn Progress,
+) -> Result<(Vec<TrialResult>, Vec<&'a Task>)> {
+    let (mut done, mut todo) = (Vec::new(), Vec::new());
+    for t in tasks {
+        if !o.resume {
+            todo.push(t);
+            continue;
+        }
+        match journal.load::<TrialResult>(&t.key())? {
+            Kept::Trial(r) => done.push(r),
+            Kept::Missing(why) => {
+                if let Some(why) = why {
+                    progress.warn(&format!("running trial {} again: {why}", t.key()));
+                }
+                todo.push(t);
+            }
+        }
+    }
+    Ok((done, todo))
+}
+
+/// Runs the trials on `o.jobs` threads, keeping each in `journal` as it finishes, until they
+/// are done or `o.cancel` is requested; returns the finished ones (an interrupted trial is
+/// not one). A failed trial is an error once the others are done (they are kept).
 pub(crate) fn run_trials(
     o: &Table5Options,
-    tasks: &[Task],
+    tasks: &[&Task],
+    journal: &Journal,
     progress: &dyn Progress,
 ) -> Result<Vec<TrialResult>> {
-    let results: Vec<Result<TrialResult>> = pool(o.jobs)?.install(|| {
+    let results: Vec<Result<Option<TrialResult>>> = pool(o.jobs)?.install(|| {
         tasks
             .par_iter()
             .with_max_len(1)
-            .map(|t| {
-                let r = run_task(t, o.time_limit, o.mcap_dir.as_deref()).with_context(|| {
-                    format!(
-                        "trial {} {} world seed {} seed {}",
-                        t.scenario,
-                        t.strategy.name(),
-                        t.world_seed,
-                        t.seed
-                    )
-                });
-                progress.inc();
-                r
+            .map(|t| -> Result<Option<TrialResult>> {
+                if o.cancel.requested() {
+                    return Ok(None);
+                }
+                let r = run_task(t, o).with_context(|| format!("trial {}", t.key()))?;
+                if let Some(r) = &r {
+                    journal.save(&t.key(), r)?;
+                    progress.inc();
+                }
+                Ok(r)
             })
             .collect()
     });
-    let mut trials = results.into_iter().collect::<Result<Vec<_>>>()?;
+    let mut trials = Vec::new();
+    for r in results {
+        trials.extend(r?);
+    }
+    Ok(trials)
+}
+
+/// Sorts trials by scenario, strategy and seed (the report's order).
+pub(crate) fn sort(trials: &mut [TrialResult]) {
     trials.sort_by(|a, b| {
         let (a, b) = (&a.trial, &b.trial);
         (&a.scenario, &a.strategy, a.seed).cmp(&(&b.scenario, &b.strategy, b.seed))
     });
-    Ok(trials)
 }
 
-fn run_task(task: &Task, time_limit: Option<f64>, mcap_dir: Option<&Path>) -> Result<TrialResult> {
+/// One trial; `None` when it was interrupted.
+fn run_task(task: &Task, o: &Table5Options) -> Result<Option<TrialResult>> {
     let wall = Instant::now();
     let sc = load(task.scenario, task.world_seed)?;
     let mut params = mission_params(&sc, task.strategy, task.seed)?;
-    if let Some(t) = time_limit {
+    if let Some(t) = o.time_limit {
         params.time_limit_s = t;
     }
-    let file = mcap_dir.map(|dir| {
-        dir.join(format!(
-            "{}-{}-w{}-s{}.mcap",
-            task.scenario,
-            task.strategy.name(),
-            task.world_seed,
-            task.seed
-        ))
-    });
-    let (mission, log, _) = run_mission(&sc, params, task.seed, file.as_deref(), |_| {})?;
+    let file = o
+        .mcap_dir
+        .as_deref()
+        .map(|dir| dir.join(format!("{}.mcap", task.key())));
+    let watch = (file.as_deref(), &o.cancel);
+    let (mission, log, _) = run_mission(&sc, params, task.seed, watch, |_| {})?;
+    if mission.interrupted() {
+        return Ok(None);
+    }
     let tours = if task.modes.is_empty() {
         Vec::new()
     } else {
         run_tours(&sc, &mission, task.seed, &task.modes, |_, _| {})?
     };
     let (replan_ms_median, replan_ms_max) = median_max(&log.replan_ms);
-    Ok(TrialResult {
+    Ok(Some(TrialResult {
         trial: TrialRecord::of(
             task.scenario,
             task.strategy.name(),
@@ -187,5 +248,5 @@ fn run_task(task: &Task, time_limit: Option<f64>, mcap_dir: Option<&Path>) -> Re
         replan_ms_median,
         replan_ms_max,
         wall_s: wall.elapsed().as_secs_f64(),
-    })
+    }))
 }

@@ -137,7 +137,7 @@ pub fn run(
         sc,
         params,
         req.seed,
-        req.mcap,
+        req.watch(),
         |m: &Mission<EscapeMission>| {
             let l = m.strategy().log();
             progress.at(

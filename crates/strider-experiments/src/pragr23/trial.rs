@@ -99,13 +99,14 @@ impl EscapeTrial {
     }
 }
 
-/// Runs `params` on the scenario's world (simulator seeded with `seed`); `progress` gets the
-/// mission about once per simulated second.
+/// Runs `params` on the scenario's world (simulator seeded with `seed`) until it ends or the
+/// cancellation flag of `watch` is requested, recording to its MCAP file if any (see
+/// [`drive`]); `progress` gets the mission about once per simulated second.
 pub fn run_escape(
     sc: &Scenario,
     params: EscapeParams,
     seed: u64,
-    mcap: Option<&std::path::Path>,
+    watch: (Option<&std::path::Path>, &crate::cancel::Cancel),
     mut progress: impl FnMut(&Mission<EscapeMission>),
 ) -> Result<EscapeTrial> {
     let secs = sections(sc);
@@ -113,7 +114,7 @@ pub fn run_escape(
     let mut mission = EscapeMission::mission(params)?;
     let t0 = 0.0;
     let mut tick = 0u64;
-    let written = drive(sc, seed, &mut mission, mcap, |m, _| {
+    let written = drive(sc, seed, &mut mission, watch, |m, _| {
         // Section times every 5 simulated seconds: the check walks every section cell.
         tick += 1;
         if tick.is_multiple_of(5) {

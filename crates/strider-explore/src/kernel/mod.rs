@@ -26,6 +26,8 @@ pub use record::{
 pub use snapshot::{map_layers, site, site_at, spatial_goal_set};
 pub use strategy::{Actuators, Strategy};
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use strider_core::interface::{MotionState, Robot, SensorSink};
 use strider_core::snapshot::Snapshot;
@@ -56,6 +58,10 @@ pub struct Mission<S> {
     gait: Option<GaitId>,
     /// Robot time of the latest tick, s.
     now: f64,
+    /// Set from outside (e.g. by a Ctrl-C handler) to stop the run at the next tick.
+    cancel: Option<Arc<AtomicBool>>,
+    /// The latest run stopped because `cancel` was set.
+    interrupted: bool,
 }
 
 impl<S: Strategy> Mission<S> {
@@ -79,7 +85,22 @@ impl<S: Strategy> Mission<S> {
             commanded: Vec::new(),
             gait: None,
             now: 0.0,
+            cancel: None,
+            interrupted: false,
         })
+    }
+
+    /// Lets `flag` stop a run: once it is set (e.g. by a Ctrl-C handler on another thread),
+    /// the run loop ends at the next control tick and winds down as at the time limit (the
+    /// strategy's `finish`, the record), and [`Mission::interrupted`] says so.
+    pub fn cancel_on(&mut self, flag: Arc<AtomicBool>) {
+        self.cancel = Some(flag);
+    }
+
+    /// Whether the latest run stopped because the flag of [`Mission::cancel_on`] was set,
+    /// before the time limit or the strategy ended it.
+    pub fn interrupted(&self) -> bool {
+        self.interrupted
     }
 
     /// The body: map, pose, run record.
@@ -183,10 +204,19 @@ impl<S: Strategy> Mission<S> {
             idle: true,
             blocked: false,
         };
+        self.interrupted = false;
         loop {
             let t = robot.now();
             if t - t0 >= limit {
                 self.body.record.termination = Termination::TimeLimit;
+                break;
+            }
+            if self
+                .cancel
+                .as_ref()
+                .is_some_and(|c| c.load(Ordering::Relaxed))
+            {
+                self.interrupted = true;
                 break;
             }
             self.strategy.before_advance(&self.body, state, t);
