@@ -26,8 +26,8 @@ pub struct PlanRecord {
     pub total_ms: f64,
     /// The goal chosen, if any.
     pub goal: Option<GoalKind>,
-    /// The best Eq. 15 score (NaN without a model).
-    pub best_score: f64,
+    /// The best Eq. 15 score; `None` without a model or without a reachable cost goal.
+    pub best_score: Option<f64>,
 }
 
 /// One stored learning pair.

@@ -13,6 +13,7 @@ use crate::kernel::{Actuators, Body, Manoeuvre, Termination, start_look_around};
 use crate::timing::ms_since;
 use std::time::Instant;
 use strider_core::{Cell, Point2};
+use strider_map::rect::WorldRect;
 use strider_plan::grid::CostGrid;
 
 impl RbcmGreedy {
@@ -53,7 +54,7 @@ impl RbcmGreedy {
         if self.search.run(&grid, start).is_err() {
             return None;
         }
-        let (cost_goal, best_score) = self.cost_goal(t);
+        let (cost_goal, best_score) = self.cost_goal(t, body.bounds().copied());
         let reps = frontier_representatives(
             body.map(),
             &self.reach,
@@ -177,9 +178,9 @@ impl RbcmGreedy {
 
     /// The reachable cell of highest Eq. 15 score and that score (none, NaN without a
     /// model); a cost goal just sampled is left alone until its windows are learned.
-    fn cost_goal(&mut self, t: f64) -> (Option<Goal>, f64) {
+    fn cost_goal(&mut self, t: f64, bounds: Option<WorldRect>) -> (Option<Goal>, Option<f64>) {
         if !self.has_model() {
-            return (None, f64::NAN);
+            return (None, None);
         }
         let mut scores = self.cost_map.scores(self.params.delta_score);
         let hold = 2.0 * self.params.window_s;
@@ -187,6 +188,11 @@ impl RbcmGreedy {
         self.reached_cost.retain(|&(tr, _)| t - tr < hold);
         for (k, sc) in scores.iter_mut().enumerate() {
             let p = self.cost_map.rect.cell(k).center(self.params.mcost_cell);
+            // Cost goals obey the exploration bounds as spatial goals do.
+            if bounds.is_some_and(|b| !b.contains(p)) {
+                *sc = f64::NAN;
+                continue;
+            }
             if self
                 .reached_cost
                 .iter()
@@ -196,7 +202,7 @@ impl RbcmGreedy {
             }
         }
         let g = best_cost_goal(&self.cost_map, &scores, &self.search);
-        (g, g.map_or(f64::NAN, |g| g.value))
+        (g, g.map(|g| g.value))
     }
 
     /// Remembers the Mcost cell one cell ahead of the robot as refused (the motion judge would
