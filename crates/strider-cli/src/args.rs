@@ -263,13 +263,13 @@ pub struct PredictArgs {
     #[arg(long, default_value = "se")]
     pub kernel: String,
     /// Isotropic lengthscale l.
-    #[arg(long, default_value_t = 0.4)]
+    #[arg(long, default_value_t = 0.4, allow_negative_numbers = true)]
     pub lengthscale: f64,
     /// Signal variance σ_s².
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub signal_variance: f64,
     /// Noise variance σ_n² (σ_ε = 0.5).
-    #[arg(long, default_value_t = 0.25)]
+    #[arg(long, default_value_t = 0.25, allow_negative_numbers = true)]
     pub noise_variance: f64,
     /// Constant prior mean.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
@@ -287,7 +287,7 @@ pub struct SolveArgs {
     /// The instance file.
     pub file: PathBuf,
     /// Wall-clock limit, seconds.
-    #[arg(long, default_value_t = 60.0)]
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub time_limit: f64,
     /// Random seed (same seed and limits: same tour, unless the time limit cuts the search).
     #[arg(long, default_value_t = 1)]
@@ -305,7 +305,7 @@ pub struct GtspBenchArgs {
     /// Folder with the instances and best_known.csv / optima.csv.
     pub dir: PathBuf,
     /// Wall-clock limit per run, seconds.
-    #[arg(long, default_value_t = 60.0)]
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub time_limit: f64,
     /// Runs per instance (seeds seed, seed+1, …).
     #[arg(long, default_value_t = 1)]
