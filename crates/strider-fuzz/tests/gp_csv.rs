@@ -65,9 +65,15 @@ fn fit_and_predict(t: &Table) -> Result<Outcome, String> {
     if let Err(e) = gp.predict_batch(&x, &mut mean, &mut var) {
         return Ok(Outcome::Rejected(e.to_string()));
     }
-    let bad = mean.iter().zip(&var).position(|(m, v)| !(m.is_finite() && v.is_finite() && *v >= 0.0));
+    let bad = mean
+        .iter()
+        .zip(&var)
+        .position(|(m, v)| !(m.is_finite() && v.is_finite() && *v >= 0.0));
     match bad {
-        Some(k) => Err(format!("prediction {k}: mean {} variance {}", mean[k], var[k])),
+        Some(k) => Err(format!(
+            "prediction {k}: mean {} variance {}",
+            mean[k], var[k]
+        )),
         None => Ok(Outcome::Accepted),
     }
 }

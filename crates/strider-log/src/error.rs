@@ -1,9 +1,9 @@
 //! The error type of the crate: what was wrong and where (file, topic, message index, byte
 //! offset).
 
-use strider_core::text::one_line;
 use crate::cdr::CdrError;
 use std::path::PathBuf;
+use strider_core::text::one_line;
 
 /// Errors of MCAP reading, writing and replay.
 #[derive(Debug, thiserror::Error)]
