@@ -108,8 +108,8 @@ pub enum SolveError {
 
 /// Checks what [`solve`] needs of its input before it allocates anything.
 fn check_input(instance: &Instance, params: &SolverParams) -> Result<(), SolveError> {
-    // `!(x > 0)` also refuses NaN; +inf means "no time limit" (the iteration limits end the run).
-    if !(params.time_limit_s > 0.0) {
+    // +inf means "no time limit" (the iteration limits end the run).
+    if params.time_limit_s.is_nan() || params.time_limit_s <= 0.0 {
         return Err(SolveError::BadParameter(format!(
             "time_limit_s = {}: must be a number of seconds > 0",
             params.time_limit_s
