@@ -40,6 +40,12 @@ mod instance;
 pub(crate) mod lns;
 pub(crate) mod parameter_defaults;
 pub(crate) mod problem;
+
+/// Largest vertex count the solver takes (its tables grow with the square of it and must fit
+/// [`crate::MEMORY_LIMIT_BYTES`]); about 12 000.
+pub fn max_solver_vertices() -> u64 {
+    Problem::max_vertices()
+}
 pub(crate) mod tour_optimizations;
 
 use std::time::Instant;
@@ -140,7 +146,7 @@ fn check_input(instance: &Instance, params: &SolverParams) -> Result<(), SolveEr
         &format!(
             "the solver's tables grow with the square of the vertex count: use at most about \
              {} vertices",
-            (memory::MEMORY_LIMIT_BYTES / 28).isqrt()
+            Problem::max_vertices()
         ),
     )
     .map_err(SolveError::TooLarge)?;
