@@ -70,7 +70,7 @@ pub enum CsvError {
     #[error("no data rows after the header")]
     NoRows,
     /// A field that is not a number.
-    #[error("line {line}: field {field} '{text}' is not a number")]
+    #[error("line {line}: field {field} {text:?} is not a number")]
     NotANumber {
         /// Line.
         line: usize,
@@ -248,8 +248,11 @@ mod tests {
             err("x,y\n1e999,1\n"),
             "line 2: field 1 is 1e999 (finite numbers only)"
         );
-        assert_eq!(err("x,y\n1,two\n"), "line 2: field 2 'two' is not a number");
-        assert_eq!(err("x,y\n1,\n"), "line 2: field 2 '' is not a number");
+        assert_eq!(
+            err("x,y\n1,two\n"),
+            "line 2: field 2 \"two\" is not a number"
+        );
+        assert_eq!(err("x,y\n1,\n"), "line 2: field 2 \"\" is not a number");
         let e = parse_bytes(b"x,y\n0,1\n\xff,2\n").unwrap_err().to_string();
         assert_eq!(e, "line 3: not UTF-8 text (invalid byte at column 1)");
     }

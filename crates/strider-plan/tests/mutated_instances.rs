@@ -31,6 +31,15 @@ const SEEDS: &[&str] = &[
     "NAME: s\nTYPE: GTSP\nDIMENSION: 6\nGTSP_SETS: 3\nEDGE_WEIGHT_TYPE: EUC_2D\n\
      NODE_COORD_SECTION\n1 0 0\n2 3 4\n3 1 1\n4 0 2.5\n5 6 6\n6 2 9\n\
      GTSP_SET_SECTION\n1 1 2 -1\n2 3 4 -1\n3 5 6 -1\nEOF\n",
+    // Beyond the exact solver's 12 sets: the large-neighbourhood search runs.
+    "NAME: big\nTYPE: TSP\nDIMENSION: 16\nEDGE_WEIGHT_TYPE: EUC_2D\nNODE_COORD_SECTION\n\
+     1 0 0\n2 10 3\n3 20 1\n4 30 7\n5 31 18\n6 22 25\n7 12 21\n8 2 28\n9 5 40\n10 17 44\n\
+     11 29 39\n12 40 47\n13 44 30\n14 48 12\n15 41 2\n16 36 21\nEOF\n",
+    "NAME: bg\nTYPE: GTSP\nDIMENSION: 16\nGTSP_SETS: 14\nEDGE_WEIGHT_TYPE: ATT\n\
+     NODE_COORD_SECTION\n1 0 0\n2 10 3\n3 20 1\n4 30 7\n5 31 18\n6 22 25\n7 12 21\n8 2 28\n\
+     9 5 40\n10 17 44\n11 29 39\n12 40 47\n13 44 30\n14 48 12\n15 41 2\n16 36 21\n\
+     GTSP_SET_SECTION\n1 1 2 -1\n2 3 -1\n3 4 -1\n4 5 -1\n5 6 -1\n6 7 -1\n7 8 -1\n8 9 -1\n\
+     9 10 -1\n10 11 12 -1\n11 13 -1\n12 14 -1\n13 15 -1\n14 16 -1\nEOF\n",
     "N: 6\nM: 3\n1 1 2\n2 3 4\n3 5 6\n9999 3 4 7 8 2\n3 9999 6 5 3 9\n4 6 9999 4 2 6\n\
      7 5 4 9999 1 7\n8 3 2 1 9999 4\n2 9 6 7 4 9999\n",
 ];
@@ -172,8 +181,17 @@ fn check_accepted(inst: &Instance) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// 512 cases, or `PROPTEST_CASES`.
+fn config() -> ProptestConfig {
+    let cases = std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(512);
+    ProptestConfig::with_cases(cases)
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(512))]
+    #![proptest_config(config())]
 
     #[test]
     fn mutated_instances_never_panic_and_accepted_ones_solve_exactly(

@@ -40,6 +40,12 @@ mod instance;
 pub(crate) mod lns;
 pub(crate) mod parameter_defaults;
 pub(crate) mod problem;
+
+/// Largest vertex count the solver takes (its tables grow with the square of it and must fit
+/// [`crate::MEMORY_LIMIT_BYTES`]); about 12 000.
+pub fn max_solver_vertices() -> u64 {
+    Problem::max_vertices()
+}
 pub(crate) mod tour_optimizations;
 
 use std::time::Instant;
@@ -108,8 +114,8 @@ pub enum SolveError {
 
 /// Checks what [`solve`] needs of its input before it allocates anything.
 fn check_input(instance: &Instance, params: &SolverParams) -> Result<(), SolveError> {
-    // `!(x > 0)` also refuses NaN; +inf means "no time limit" (the iteration limits end the run).
-    if !(params.time_limit_s > 0.0) {
+    // +inf means "no time limit" (the iteration limits end the run).
+    if params.time_limit_s.is_nan() || params.time_limit_s <= 0.0 {
         return Err(SolveError::BadParameter(format!(
             "time_limit_s = {}: must be a number of seconds > 0",
             params.time_limit_s
@@ -140,7 +146,7 @@ fn check_input(instance: &Instance, params: &SolverParams) -> Result<(), SolveEr
         &format!(
             "the solver's tables grow with the square of the vertex count: use at most about \
              {} vertices",
-            (memory::MEMORY_LIMIT_BYTES / 28).isqrt()
+            Problem::max_vertices()
         ),
     )
     .map_err(SolveError::TooLarge)?;

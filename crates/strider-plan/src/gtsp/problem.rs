@@ -44,6 +44,12 @@ pub(crate) struct Problem {
 }
 
 impl Problem {
+    /// Largest number of vertices (one per set) whose tables fit
+    /// [`crate::MEMORY_LIMIT_BYTES`]: 28 bytes per vertex pair, see [`Problem::estimate_bytes`].
+    pub fn max_vertices() -> u64 {
+        (crate::memory::MEMORY_LIMIT_BYTES / 28).isqrt()
+    }
+
     /// Bytes of the tables [`Problem::new`] allocates for `inst` (`None` on overflow): the
     /// renumbered matrix and its transpose (8 bytes per vertex pair each), the set-to-set
     /// distances (8 bytes per set pair) and neighbour lists (4 bytes per set pair).

@@ -83,7 +83,8 @@ pub(super) fn coordinate_matrix(
     n: usize,
 ) -> Result<Vec<i64>, TsplibError> {
     let bound = distance_bound(kind, &coords[..n]);
-    if !(bound * n as f64 <= MAX_TOUR_COST as f64) {
+    let worst = bound * n as f64;
+    if worst.is_nan() || worst > MAX_TOUR_COST as f64 {
         return Err(TsplibError::CostTooLarge {
             what: format!(
                 "{} distances between these coordinates reach {bound:.3e} (across their \

@@ -127,7 +127,9 @@ pub(super) fn check_matrix_size(n: usize, line: usize) -> Result<(), TsplibError
         bytes,
         &format!("DIMENSION {n}: a {n} × {n} cost matrix"),
         &format!(
-            "the solver keeps dense cost matrices: use an instance of at most {max_n} vertices"
+            "cost matrices are dense: use an instance of at most {max_n} vertices (the solver \
+             takes at most {})",
+            crate::gtsp::max_solver_vertices()
         ),
     )
     .map_err(|source| TsplibError::TooLarge { line, source })
