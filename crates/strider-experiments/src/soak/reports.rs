@@ -55,6 +55,10 @@ impl Bounds {
     }
 }
 
+/// The soak judges whole missions: nothing cancels one midway.
+static NEVER_CANCELLED: std::sync::LazyLock<crate::cancel::Cancel> =
+    std::sync::LazyLock::new(crate::cancel::Cancel::new);
+
 /// The request `strider run` would have had for `task`.
 fn request(task: &Task) -> RunRequest<'_> {
     RunRequest {
@@ -66,6 +70,7 @@ fn request(task: &Task) -> RunRequest<'_> {
         time_limit: Some(task.time_limit_s),
         out: Path::new(""),
         mcap: None,
+        cancel: &NEVER_CANCELLED,
     }
 }
 
