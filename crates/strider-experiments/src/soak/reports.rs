@@ -386,6 +386,7 @@ mod tests {
             exploration_time_s: t,
             driven_m: 1.0,
             observed_cells: cells,
+            completion: crate::cancel::Completion::of(false),
         }
     }
 
