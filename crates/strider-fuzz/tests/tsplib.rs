@@ -117,7 +117,6 @@ fn closed_tour_edges(tour: &[usize]) -> impl Iterator<Item = (usize, usize)> + '
 }
 
 #[test]
-#[ignore = "open fault: TSPLIB errors echo control characters from the file (seed 0 finds 35 cases); run with --ignored"]
 fn fuzz_tsplib_reader_and_solver() {
     let seeds = [
         COORD_GTSP,

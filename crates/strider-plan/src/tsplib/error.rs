@@ -37,7 +37,7 @@ pub enum TsplibError {
         column: usize,
     },
     /// Malformed line or value.
-    #[error("line {line}: {msg}")]
+    #[error("line {line}: {}", strider_core::text::one_line(.msg))]
     Syntax {
         /// Line number.
         line: usize,
@@ -78,7 +78,7 @@ pub enum TsplibError {
         because: String,
     },
     /// `DIMENSION` or `GTSP_SETS` missing, zero, or inconsistent.
-    #[error("line {line}: bad dimension: {msg}")]
+    #[error("line {line}: bad dimension: {}", strider_core::text::one_line(.msg))]
     BadDimension {
         /// Line number.
         line: usize,
@@ -135,7 +135,7 @@ pub enum TsplibError {
         vertex: usize,
     },
     /// A keyword value this reader does not support.
-    #[error("line {line}: unsupported {what}")]
+    #[error("line {line}: unsupported {}", strider_core::text::one_line(.what))]
     Unsupported {
         /// Line number.
         line: usize,
