@@ -5,6 +5,7 @@
 mod figures;
 pub mod report;
 mod run;
+pub(crate) use run::report as mission_report;
 mod table5;
 mod table5_report;
 mod table5_trials;

@@ -69,7 +69,8 @@ fn goals_message(p: &MissionProgress) -> String {
     )
 }
 
-fn report(
+/// The report of a finished Prágr22 mission and its benchmark tours (none for the soak).
+pub(crate) fn report(
     sc: &Scenario,
     req: &RunRequest,
     configured: &Configured,

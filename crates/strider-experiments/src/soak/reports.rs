@@ -22,9 +22,7 @@ use super::finite::NonFinite;
 use super::plan::Task;
 use super::violation::{Findings, Kind};
 use crate::pragr19::{self, report::RbcmReport};
-use crate::pragr22::report::{
-    GainEvaluations, GoalIdentificationMs, MedianMax, RunReport, models, replan_parts, tour_reports,
-};
+use crate::pragr22::report::RunReport;
 use crate::pragr23::trial::{
     SECTION_EXPLORED_FRACTION, SectionResult, section_fractions, sections,
 };
@@ -74,7 +72,7 @@ fn request(task: &Task) -> RunRequest<'_> {
     }
 }
 
-/// The report of a Prágr22 mission (`pragr22::run_tour`'s, without tours).
+/// The report of a Prágr22 mission: `strider run`'s own, without tours.
 pub fn tour(
     sc: &Scenario,
     task: &Task,
@@ -82,35 +80,8 @@ pub fn tour(
     mission: &Mission<TourExplorer>,
     wall: Instant,
 ) -> RunReport {
-    let record = mission.record();
     let log = mission.strategy().log();
-    RunReport {
-        id: MissionId::of(sc, &request(task), configured.name()),
-        parameters: configured.table(),
-        explored: Explored::of(mission),
-        scans_fused: mission.body().map().scan_count(),
-        phase_wall_s: log.phase_wall_s,
-        models: models(mission, log),
-        tours: tour_reports(&[]),
-        stuck_events: log.stuck_events,
-        turn_skipped_cost_samples: log.turn_skipped,
-        information_gain_evaluations: GainEvaluations {
-            fresh: log.gain_evaluated,
-            incremental: log.gain_updated,
-        },
-        replans: log.replan_ms.len(),
-        replan_latency_ms: MedianMax::of(&log.replan_ms),
-        goals_to_tour_ms: MedianMax::of(&log.goals_to_tour_ms),
-        replan_parts_ms: replan_parts(log),
-        goal_identification_ms: GoalIdentificationMs {
-            spatial: MedianMax::of(&log.spatial_goal_ms),
-            learning: MedianMax::of(&log.learning_ms),
-        },
-        mission_wall_s: record.wall_s,
-        speedup: record.exploration_time_s / record.wall_s.max(1e-9),
-        wall_time_s: wall.elapsed().as_secs_f64(),
-        trajectory: record.trajectory.clone(),
-    }
+    crate::pragr22::mission_report(sc, &request(task), configured, (mission, log), &[], wall)
 }
 
 /// The counts of a Prágr22 report that must agree.
