@@ -161,7 +161,7 @@ impl Gp {
             check_point(p, i)?;
         }
         for (i, v) in y.iter().enumerate() {
-            check_y(*v, i)?;
+            check_y(*v, gp.params.prior_mean, i)?;
         }
         let n = y.len();
         gp.x = x.to_vec();
@@ -290,10 +290,24 @@ fn check_point(x: &[f64], i: usize) -> Result<(), GpError> {
     Ok(())
 }
 
-fn check_y(y: f64, i: usize) -> Result<(), GpError> {
+/// The largest |y − m| a target may deviate from the prior mean. Solves with K + σ_n² I can
+/// amplify a target by up to ~10¹⁶ (a jittered, nearly singular K) and predictions sum n such
+/// terms, so 10¹⁰⁰ keeps every intermediate finite with room to spare, while no physical
+/// cost, energy or elevation comes near it.
+pub const MAX_TARGET_DEVIATION: f64 = 1e100;
+
+fn check_y(y: f64, prior_mean: f64, i: usize) -> Result<(), GpError> {
     if !y.is_finite() {
         return Err(GpError::NonFinite {
             what: format!("y of point {i}"),
+        });
+    }
+    let deviation = (y - prior_mean).abs();
+    if !(deviation <= MAX_TARGET_DEVIATION) {
+        return Err(GpError::TargetTooLarge {
+            point: i,
+            value: y,
+            prior_mean,
         });
     }
     Ok(())

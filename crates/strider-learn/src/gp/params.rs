@@ -90,6 +90,19 @@ pub enum GpError {
         /// What was not finite, e.g. "x\[3\] of point 7" or "y of point 7".
         what: String,
     },
+    /// A target so far from the prior mean that solving with it could overflow
+    /// (|y − m| > [`MAX_TARGET_DEVIATION`](super::MAX_TARGET_DEVIATION)).
+    #[error(
+        "y of point {point} = {value:e} is more than 1e100 from the prior mean {prior_mean}; rescale the targets"
+    )]
+    TargetTooLarge {
+        /// The point's index.
+        point: usize,
+        /// Its target.
+        value: f64,
+        /// The GP's prior mean.
+        prior_mean: f64,
+    },
     /// Hyperparameters or bounds out of their domain.
     #[error("bad hyperparameter: {0}")]
     BadHyperparameter(String),

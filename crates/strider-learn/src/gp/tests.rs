@@ -95,3 +95,37 @@ fn differential_entropy_of_unit_variance() {
     assert_eq!(p.entropy(), differential_entropy(1.0));
     assert_eq!(p.noisy_variance(0.25), 1.25);
 }
+
+/// A fuzzer found a fit on a target of 1.8e308 whose predictions were NaN (inf − inf in the
+/// solve); such targets are refused at every entry, and the largest allowed ones predict finitely.
+#[test]
+fn targets_beyond_the_deviation_limit_are_refused_and_those_within_predict_finitely() {
+    let x = [-1.0, 0.0, 1.0, 2.0, 3.0];
+    let params = GpParams::default();
+    let mut y = [0.3, 1e6, f64::MAX, 1e-3, -25.0];
+    let err = Gp::fit(1, params.clone(), &x, &y).unwrap_err();
+    assert!(
+        matches!(err, GpError::TargetTooLarge { point: 2, .. }),
+        "{err}"
+    );
+    assert!(err.to_string().contains("rescale"), "{err}");
+    y[2] = MAX_TARGET_DEVIATION;
+    y[4] = -MAX_TARGET_DEVIATION;
+    let mut gp = Gp::fit(1, params, &x, &y).unwrap();
+    let mut mean = [0.0; 5];
+    let mut var = [0.0; 5];
+    gp.predict_batch(&x, &mut mean, &mut var).unwrap();
+    assert!(
+        mean.iter().chain(&var).all(|v| v.is_finite()),
+        "{mean:?} {var:?}"
+    );
+    assert!(matches!(
+        gp.push(&[4.0], -f64::MAX),
+        Err(GpError::TargetTooLarge { point: 5, .. })
+    ));
+    assert!(matches!(
+        gp.set_y(0, 2e100),
+        Err(GpError::TargetTooLarge { point: 0, .. })
+    ));
+    assert_eq!(gp.len(), 5);
+}

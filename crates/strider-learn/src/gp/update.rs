@@ -16,7 +16,7 @@ impl Gp {
     pub fn push(&mut self, x: &[f64], y: f64) -> Result<(), GpError> {
         self.check_dim(x)?;
         check_point(x, self.len())?;
-        check_y(y, self.len())?;
+        check_y(y, self.params.prior_mean, self.len())?;
         self.push_storage(x, y, 1.0)?;
         self.perm.push(self.len() - 1);
         Ok(())
@@ -41,7 +41,7 @@ impl Gp {
         }
         for (j, (x, &y)) in xs.chunks_exact(d).zip(ys).enumerate() {
             check_point(x, n + j)?;
-            check_y(y, n + j)?;
+            check_y(y, self.params.prior_mean, n + j)?;
         }
         if k == 0 {
             return Ok(());
@@ -149,7 +149,7 @@ impl Gp {
         self.check_index(i)?;
         self.check_dim(x)?;
         check_point(x, i)?;
-        check_y(y, i)?;
+        check_y(y, self.params.prior_mean, i)?;
         if self.x(i) == x {
             return self.set_y(i, y);
         }
@@ -182,7 +182,7 @@ impl Gp {
     /// (O((n − row)²), no kernel evaluations).
     pub fn set_y(&mut self, i: usize, y: f64) -> Result<(), GpError> {
         self.check_index(i)?;
-        check_y(y, i)?;
+        check_y(y, self.params.prior_mean, i)?;
         let p = self.perm[i];
         self.y[p] = y;
         self.resolve_w_from(p);
@@ -195,7 +195,7 @@ impl Gp {
     pub fn set_ys(&mut self, changes: &[(usize, f64)]) -> Result<(), GpError> {
         for &(i, y) in changes {
             self.check_index(i)?;
-            check_y(y, i)?;
+            check_y(y, self.params.prior_mean, i)?;
         }
         let mut lowest = usize::MAX;
         for &(i, y) in changes {
