@@ -9,7 +9,7 @@ use crate::memory::MemoryError;
 #[derive(Debug, Error)]
 pub enum TsplibError {
     /// The file could not be read.
-    #[error("cannot read {path}: {source}")]
+    #[error("cannot read {}: {source}", strider_core::text::one_line(.path))]
     Io {
         /// The path.
         path: String,
@@ -18,7 +18,8 @@ pub enum TsplibError {
     },
     /// The file is larger than [`super::MAX_FILE_BYTES`].
     #[error(
-        "{path} is {bytes} bytes, more than the reader's limit of {limit} bytes (MAX_FILE_BYTES)"
+        "{} is {bytes} bytes, more than the reader's limit of {limit} bytes (MAX_FILE_BYTES)",
+        strider_core::text::one_line(.path)
     )]
     FileTooLarge {
         /// The path.
@@ -45,7 +46,10 @@ pub enum TsplibError {
         msg: String,
     },
     /// A section ended (end of file or next keyword) before all its values.
-    #[error("line {line}: {section} is truncated: expected {expected} {unit}, found {found}")]
+    #[error(
+        "line {line}: {} is truncated: expected {expected} {unit}, found {found}",
+        strider_core::text::one_line(.section)
+    )]
     Truncated {
         /// Line where the data stopped.
         line: usize,
@@ -60,8 +64,10 @@ pub enum TsplibError {
     },
     /// A value after a section that already has all the values its header announced.
     #[error(
-        "line {line}: extra value '{value}' after the {expected} {unit} of {section} \
-         ({because})"
+        "line {line}: extra value '{}' after the {expected} {unit} of {} ({})",
+        strider_core::text::one_line(.value),
+        strider_core::text::one_line(.section),
+        strider_core::text::one_line(.because)
     )]
     ExtraValues {
         /// Line of the extra value.
@@ -95,8 +101,9 @@ pub enum TsplibError {
     },
     /// Costs so large that a tour's cost could overflow.
     #[error(
-        "{what}; with {n} vertices a tour could cost {n} times that, more than the limit \
-         {limit} (MAX_TOUR_COST): scale the costs down"
+        "{}; with {n} vertices a tour could cost {n} times that, more than the limit \
+         {limit} (MAX_TOUR_COST): scale the costs down",
+        strider_core::text::one_line(.what)
     )]
     CostTooLarge {
         /// The largest cost and where it is, e.g. "arc 1 -> 2 costs 9000000000000000".
@@ -143,7 +150,7 @@ pub enum TsplibError {
         what: String,
     },
     /// A required header or section is missing.
-    #[error("line {line}: missing {what}")]
+    #[error("line {line}: missing {}", strider_core::text::one_line(.what))]
     Missing {
         /// Line number (end of file).
         line: usize,
