@@ -303,7 +303,8 @@ fn check_y(y: f64, prior_mean: f64, i: usize) -> Result<(), GpError> {
         });
     }
     let deviation = (y - prior_mean).abs();
-    if !(deviation <= MAX_TARGET_DEVIATION) {
+    // y and m are finite, so the deviation is finite or +inf (overflow), never NaN.
+    if deviation > MAX_TARGET_DEVIATION {
         return Err(GpError::TargetTooLarge {
             point: i,
             value: y,
