@@ -19,10 +19,13 @@
 //! base_frame = "base_link"
 //!
 //! [[clouds]]                     # one table per sensor, in the order of the sensor ids
-//! topic = "/robot/sensor_0/points"   # sensor_msgs/msg/PointCloud2 with x, y, z and colour
+//! topic = "/robot/sensor_0/points"   # sensor_msgs/msg/PointCloud2 with x, y, z and colour,
+//!                                # or sensor_msgs/msg/LaserScan (the topic's schema decides:
+//!                                # a planar laser, read without colour)
 //! origin_frame = "sensor_0"      # the frame whose origin is the sensor (default: the
 //!                                # cloud's own frame; required for clouds in world_frame)
-//! missing_rgb = "error"          # or "gray": map clouds without a colour field uncoloured
+//! missing_rgb = "error"          # or "gray": map clouds without a colour field (and
+//!                                # LaserScans) uncoloured
 //!
 //! [gait]
 //! topic = "/robot/gait"          # std_msgs/msg/String (gait name) or std_msgs/msg/UInt8
@@ -139,7 +142,7 @@ impl Default for PoseConfig {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CloudConfig {
-    /// sensor_msgs/msg/PointCloud2 topic.
+    /// sensor_msgs/msg/PointCloud2 or sensor_msgs/msg/LaserScan topic (its schema decides).
     pub topic: String,
     /// The frame whose origin is the sensor (default: the cloud's frame).
     #[serde(default)]

@@ -8,8 +8,8 @@ use crate::cdr;
 use crate::config::ReplayConfig;
 use crate::error::{LogError, MessageAt};
 use crate::ros2::{
-    HeaderPrefix, MsgType, Odometry, Quaternion, StringMsg, TfMessage, UInt8Msg, nanos_to_seconds,
-    seconds_to_nanos,
+    HeaderPrefix, MissingRgb, MsgType, Odometry, Quaternion, StringMsg, TfMessage, UInt8Msg,
+    nanos_to_seconds, seconds_to_nanos,
 };
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
@@ -109,7 +109,7 @@ impl LogIndex {
             return Ok(());
         };
         let schema = m.channel.schema.as_ref().map_or("", |s| s.name.as_str());
-        check(topic, &m.channel.message_encoding, schema, role)?;
+        let ty = check(topic, &m.channel.message_encoding, schema, role)?;
         let at = MessageAt { topic, index };
         self.keep(at)?;
         let log_ns = i64::try_from(m.log_time).unwrap_or(i64::MAX);
@@ -123,7 +123,7 @@ impl LogIndex {
                 self.transforms(msg, role == Role::TfStatic, at, cx.cfg)?;
             }
             Role::Gait => {
-                let g = gait(&m.data, schema, at, cx.gait_names)?;
+                let g = gait(&m.data, ty, at, cx.gait_names)?;
                 self.span(log_ns, at);
                 self.gaits.push((log_ns, self.messages, g));
             }
@@ -133,6 +133,15 @@ impl LogIndex {
                 self.motion.push((log_ns, self.messages, v.data));
             }
             Role::Cloud(i) => {
+                if ty == MsgType::LaserScan
+                    && cx.cfg.clouds[i as usize].missing_rgb == MissingRgb::Error
+                {
+                    return Err(at.content(format!(
+                        "{} has no colour: set missing_rgb = \"gray\" in the cloud's replay \
+                         config to map it uncoloured",
+                        ty.name()
+                    )));
+                }
                 // Only the header now; the payload is checked when it is delivered.
                 let h: HeaderPrefix = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
                 self.span(h.header.stamp.nanos(), at);
@@ -267,10 +276,10 @@ impl LogIndex {
     }
 }
 
-/// The gait of a gait message: an index (`std_msgs/UInt8`) or a name (`std_msgs/String`) of
-/// one of the robot's `gait_names`.
-fn gait(data: &[u8], schema: &str, at: MessageAt, gait_names: &[&str]) -> Result<GaitId, LogError> {
-    if schema == MsgType::UInt8.name() {
+/// The gait of a gait message of type `ty`: an index (`std_msgs/UInt8`) or a name
+/// (`std_msgs/String`) of one of the robot's `gait_names`.
+fn gait(data: &[u8], ty: MsgType, at: MessageAt, gait_names: &[&str]) -> Result<GaitId, LogError> {
+    if ty == MsgType::UInt8 {
         let v: UInt8Msg = cdr::decode(data).map_err(|e| at.decode(e))?;
         if (v.data as usize) >= gait_names.len() {
             return Err(at.content(format!(

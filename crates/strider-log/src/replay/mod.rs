@@ -23,7 +23,9 @@
 //! * The motion state returned by `advance` is the latest motion message (bit 0 idle, bit 1
 //!   blocked); without a motion topic the robot counts as driving throughout (cost samples
 //!   are then also taken while it stands: trim such phases off the log).
-//! * A cloud is transformed from its frame into the world frame through /tf (a cloud already
+//! * A cloud topic carries `sensor_msgs/PointCloud2` or `sensor_msgs/LaserScan` (read as the
+//!   cloud of its valid ranges in the scan's frame, without colour; see `ros2::decode_scan`).
+//!   A cloud is transformed from its frame into the world frame through /tf (a cloud already
 //!   in the world frame is used bit for bit); its origin is the translation of `origin_frame`
 //!   (default: its own frame). Transforms are interpolated between stamps and used up to
 //!   `tolerance_s` outside them; a missing transform is an error.
