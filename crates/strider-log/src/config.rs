@@ -71,6 +71,10 @@ pub struct ReplayConfig {
     /// The fixed frame the map is built in.
     #[serde(default = "world")]
     pub world_frame: String,
+    /// Whether `world_frame` was left out (it is then "map"): set by [`ReplayConfig::parse`],
+    /// for the errors about frames.
+    #[serde(skip)]
+    pub world_frame_defaulted: bool,
     /// Fuse only the scans the mission's keyframe rule wants.
     #[serde(default = "yes")]
     pub keyframes: bool,
@@ -246,7 +250,9 @@ impl ReplayConfig {
     /// Parses and checks a configuration; any text gives a configuration or an error, never a
     /// panic.
     pub fn parse(text: &str) -> Result<Self, LogError> {
-        let c: ReplayConfig = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+        let mut c: ReplayConfig = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+        c.world_frame_defaulted =
+            toml::from_str::<toml::Table>(text).is_ok_and(|t| !t.contains_key("world_frame"));
         c.validate()?;
         Ok(c)
     }

@@ -190,11 +190,9 @@ pub(super) fn world_cloud(
             "the cloud is in the world frame {world:?}: set origin_frame to the sensor's frame"
         )));
     }
-    let origin = tf
-        .lookup(origin_frame, world, t)
-        .map_err(|e| at.content(e))?;
+    let origin = tf.lookup(origin_frame, t).map_err(|e| at.content(e))?;
     if frame != *world {
-        let iso = tf.lookup(&frame, world, t).map_err(|e| at.content(e))?;
+        let iso = tf.lookup(&frame, t).map_err(|e| at.content(e))?;
         for p in &mut points {
             let q = iso.apply([p.x as f64, p.y as f64, p.z as f64]);
             (p.x, p.y, p.z) = (q[0] as f32, q[1] as f32, q[2] as f32);

@@ -9,7 +9,7 @@ use crate::config::ReplayConfig;
 use crate::error::{LogError, MessageAt};
 use crate::ros2::{
     HeaderPrefix, MissingRgb, MsgType, Odometry, Quaternion, StringMsg, TfMessage, UInt8Msg,
-    nanos_to_seconds, seconds_to_nanos,
+    nanos_to_seconds,
 };
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
@@ -74,7 +74,7 @@ impl LogIndex {
         let mut ix = LogIndex {
             counts: BTreeMap::new(),
             messages: 0,
-            tf: TfBuffer::new(seconds_to_nanos(cfg.tf.tolerance_s)),
+            tf: TfBuffer::new(cfg),
             odoms: Vec::new(),
             base_tf: Vec::new(),
             gaits: Vec::new(),
@@ -120,6 +120,9 @@ impl LogIndex {
             }
             Role::Tf | Role::TfStatic => {
                 let msg: TfMessage = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
+                if role == Role::TfStatic {
+                    self.tf.note_static_message();
+                }
                 self.transforms(msg, role == Role::TfStatic, at, cx.cfg)?;
             }
             Role::Gait => {

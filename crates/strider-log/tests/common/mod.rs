@@ -175,8 +175,11 @@ pub fn recompress(src: &Path, dst: &Path, compression: Option<mcap::Compression>
     w.finish().unwrap();
 }
 
-/// The delivered clouds bit for bit: (stamp, sensor, origin, points' coordinates and colours).
-pub fn cloud_bits(c: &Collect) -> Vec<(u64, u8, [u64; 3], Vec<([u32; 3], [u8; 3])>)> {
+/// A cloud bit for bit: stamp, sensor, origin, points' coordinates and colours.
+pub type CloudBits = (u64, u8, [u64; 3], Vec<([u32; 3], [u8; 3])>);
+
+/// The delivered clouds bit for bit.
+pub fn cloud_bits(c: &Collect) -> Vec<CloudBits> {
     c.clouds
         .iter()
         .map(|c| {
