@@ -303,7 +303,7 @@ fn check_y(y: f64, prior_mean: f64, i: usize) -> Result<(), GpError> {
         });
     }
     let deviation = (y - prior_mean).abs();
-    if !(deviation <= MAX_TARGET_DEVIATION) {
+    if deviation.is_nan() || deviation > MAX_TARGET_DEVIATION {
         return Err(GpError::TargetTooLarge {
             point: i,
             value: y,
