@@ -1,6 +1,7 @@
 //! The checking pass of a replay: every message on a configured topic is checked and all but
 //! the clouds' payloads are decoded, so a faulty log is reported before any work.
 
+use super::plausibility::StampOrder;
 use super::reader::{Reader, Source};
 use super::roles::{Role, check};
 use super::tf::{Iso, TfBuffer};
@@ -47,6 +48,10 @@ pub(super) struct LogIndex {
     pub(super) motion: Vec<(i64, u64, u8)>,
     /// Clouds per configured cloud topic.
     pub(super) cloud_count: Vec<usize>,
+    /// The clouds' stamps.
+    pub(super) cloud_ns: Vec<i64>,
+    /// The order of the stamps of the poses and clouds in the file.
+    pub(super) order: StampOrder,
     /// Poses, transforms, gait and motion messages kept.
     kept: usize,
     /// The earliest and latest stamps.
@@ -80,6 +85,8 @@ impl LogIndex {
             gaits: Vec::new(),
             motion: Vec::new(),
             cloud_count: vec![0; cfg.clouds.len()],
+            cloud_ns: Vec::new(),
+            order: StampOrder::default(),
             kept: 0,
             lo: (i64::MAX, String::new(), 0),
             hi: (i64::MIN, String::new(), 0),
@@ -147,7 +154,10 @@ impl LogIndex {
                 }
                 // Only the header now; the payload is checked when it is delivered.
                 let h: HeaderPrefix = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
-                self.span(h.header.stamp.nanos(), at);
+                let ns = h.header.stamp.nanos();
+                self.span(ns, at);
+                self.order.note(topic, topic, index, ns);
+                self.cloud_ns.push(ns);
                 self.cloud_count[i as usize] += 1;
             }
         }
@@ -181,6 +191,7 @@ impl LogIndex {
     fn odometry(&mut self, o: Odometry, at: MessageAt) {
         let ns = o.header.stamp.nanos();
         self.span(ns, at);
+        self.order.note(at.topic, at.topic, at.index, ns);
         let p = o.pose.pose;
         let iso = Iso {
             q: p.orientation.normalized().unwrap_or(Quaternion {
@@ -222,6 +233,7 @@ impl LogIndex {
                 let ns = ts.header.stamp.nanos();
                 if cfg.pose.from_tf && child == cfg.pose.base_frame {
                     self.span(ns, at);
+                    self.order.note(&child, at.topic, at.index, ns);
                     self.base_tf.push((ns, self.messages));
                 }
                 self.tf.add(child, ns, parent, iso);

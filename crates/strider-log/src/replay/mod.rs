@@ -36,6 +36,7 @@
 
 mod clouds;
 mod index;
+mod plausibility;
 mod poses;
 mod reader;
 mod roles;
@@ -43,6 +44,9 @@ mod tf;
 
 pub use clouds::MAX_PENDING_CLOUD_BYTES;
 pub use index::{MAX_INDEXED, MAX_SPAN_S};
+pub use plausibility::{
+    JUMP_MIN_M, JUMP_SPEED_FACTOR, Plausibility, SPEED_BASELINE_S, SPEED_MARGIN,
+};
 pub use reader::MAX_RECORD_BYTES;
 
 use crate::config::ReplayConfig;
@@ -103,6 +107,7 @@ pub struct LogReplay {
     now: f64,
     stats: ReplayStats,
     warnings: Vec<String>,
+    plausibility: Plausibility,
 }
 
 impl LogReplay {
@@ -149,6 +154,7 @@ impl LogReplay {
         assign_gaits(&mut poses, &mut ix.gaits, start, gait);
         stats.poses = poses.len();
         let warnings = fallback_warnings(cfg, &ix, bad, gait_names.get(gait.0 as usize));
+        let plausibility = check_plausibility(&mut ix, &poses, gaits, cfg, start);
         let mut motion = std::mem::take(&mut ix.motion);
         motion.sort_by_key(|m| (m.0, m.1));
         for m in &mut motion {
@@ -169,6 +175,7 @@ impl LogReplay {
             now: 0.0,
             stats,
             warnings,
+            plausibility,
         })
     }
 
@@ -192,6 +199,11 @@ impl LogReplay {
     /// Notes about fallbacks taken (no gait topic, no motion topic, skipped poses).
     pub fn warnings(&self) -> &[String] {
         &self.warnings
+    }
+
+    /// What the plausibility checks found in the log (its warnings: [`Plausibility::warnings`]).
+    pub fn plausibility(&self) -> &Plausibility {
+        &self.plausibility
     }
 
     /// Delivers the poses and the clouds stamped up to `limit` (relative ns) in stamp order,
@@ -295,6 +307,29 @@ fn fallback_warnings(
         );
     }
     warnings
+}
+
+/// The plausibility checks of the log of `ix` with its world `poses` (relative to `start`) for
+/// a robot with `gaits`.
+fn check_plausibility(
+    ix: &mut LogIndex,
+    poses: &[TimedPose],
+    gaits: &[GaitSpec],
+    cfg: &ReplayConfig,
+    start: i64,
+) -> Plausibility {
+    let mut p = Plausibility {
+        backward_stamps: ix.order.backward,
+        first_backward: ix.order.first.take(),
+        ..Default::default()
+    };
+    p.check_poses(poses, gaits);
+    let clouds: Vec<i64> = std::mem::take(&mut ix.cloud_ns)
+        .into_iter()
+        .map(|ns| ns.saturating_sub(start))
+        .collect();
+    p.check_clouds(&clouds, poses, seconds_to_nanos(cfg.tf.tolerance_s));
+    p
 }
 
 impl Robot for LogReplay {
