@@ -30,9 +30,13 @@
 //!   (default: its own frame). Transforms are interpolated between stamps and used up to
 //!   `tolerance_s` outside them; a missing transform is an error.
 //!
+//! * Once read, the log is checked for plausibility ([`LogReplay::plausibility`]): speeds
+//!   above the gaits' v_max, pose jumps, stamps going backwards, clouds without a pose near
+//!   them. They are counted and warned about, not refused.
+//!
 //! The parts, in the order a replay uses them: `roles` (what each topic is for), `reader` (the
 //! bounded MCAP reader), `index` (the checking pass), `tf` (the transform tree), `poses` (world
-//! poses and their gaits) and `clouds` (the streamed clouds).
+//! poses and their gaits), `plausibility` (the checks) and `clouds` (the streamed clouds).
 
 mod clouds;
 mod index;
