@@ -53,6 +53,11 @@ fn replay_of_a_recorded_mission_gives_the_live_map_and_costs() {
     let mut mission = TourExplorer::mission(rp).unwrap();
     let run = mission.ingest(&mut replay, |_, _| {}).unwrap().clone();
     assert!(replay.warnings().is_empty(), "{:?}", replay.warnings());
+    assert!(
+        replay.plausibility().warnings().is_empty(),
+        "the simulator's log is plausible: {:?}",
+        replay.plausibility()
+    );
     assert_eq!(mission.strategy().log().cost_samples, live_log.cost_samples);
     assert!((run.exploration_time_s - live.record().exploration_time_s).abs() < 1e-9);
 
@@ -161,6 +166,11 @@ fn every_strategy_records_and_its_replay_gives_its_map() {
             rp.time_limit_s = replay.time_limit_s(1.0 / rp.rates.control_hz);
             let mut replayed = TourExplorer::mission(rp).unwrap();
             replayed.ingest(&mut replay, |_, _| {}).unwrap();
+            assert!(
+                replay.plausibility().warnings().is_empty(),
+                "{name} on {scenario}: {:?}",
+                replay.plausibility()
+            );
 
             let (a, b) = (live.body().map(), replayed.body().map());
             let what = format!("{name} on {scenario}");
@@ -182,8 +192,14 @@ fn every_strategy_records_and_its_replay_gives_its_map() {
 
 /// A small valid log: poses, one coloured scan, motion states.
 fn small_log(path: &Path) {
+    driving_log(path, 10, 0.002, "map");
+}
+
+/// `n` poses at 20 Hz, `step` m apart along x, motion states, and one coloured scan at 0 s in
+/// `frame` (the sensor frame is on /tf).
+fn driving_log(path: &Path, n: i64, step: f64, frame: &str) {
     let mut w = McapWriter::create(path).unwrap();
-    for k in 0..10i64 {
+    for k in 0..n {
         let ns = k * 50_000_000;
         let mut o = Odometry {
             header: Header {
@@ -193,7 +209,7 @@ fn small_log(path: &Path) {
             child_frame_id: "base_link".into(),
             ..Default::default()
         };
-        o.pose.pose.position.x = 0.5 + 0.002 * k as f64;
+        o.pose.pose.position.x = 0.5 + step * k as f64;
         o.pose.pose.orientation = Quaternion::IDENTITY;
         w.write_ros2("/robot/odom", MsgType::Odometry, ns, &o)
             .unwrap();
@@ -225,7 +241,7 @@ fn small_log(path: &Path) {
         },
     });
     w.write_ros2("/tf", MsgType::TfMessage, 0, &tf).unwrap();
-    let c = ros2::encode_cloud(Time::default(), "map", &pts).unwrap();
+    let c = ros2::encode_cloud(Time::default(), frame, &pts).unwrap();
     w.write_cdr("/robot/sensor_0/points", MsgType::PointCloud2, 0, &c)
         .unwrap();
     w.finish().unwrap();
@@ -289,4 +305,65 @@ fn replay_errors_are_one_clear_line() {
     // A configuration without the robot.
     let e = common::one_line_error(&replay(&log, "[gait]\ntopic = \"\"\n", &dir));
     assert!(e.contains("replay config") && e.contains("mission"), "{e}");
+}
+
+/// A robot of one 0.05 m/s gait.
+const SLOW: &str = "motion_topic = \"\"\n[gait]\ntopic = \"\"\n[mission]\n\
+                    gaits = [{ name = \"slow\", v_max = 0.05 }]\nsensor_hfov_deg = [87.0]\n";
+
+#[test]
+fn a_too_slow_profile_is_warned_about_once_with_counts() {
+    let dir = common::temp_dir("replay", "too-slow");
+    let log = dir.join("drive.mcap");
+    // 0.3 m/s for 5 s: poses from 2 s on are checked over a 2 s baseline.
+    driving_log(&log, 100, 0.015, "map");
+    let o = replay(&log, SLOW, &dir);
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let warning = "warning: the robot moved faster than its gait's v_max at 60 of 60 poses";
+    assert_eq!(out.matches(warning).count(), 1, "{out}");
+    assert_eq!(out.matches("warning:").count(), 1, "{out}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/report.json")).unwrap())
+            .unwrap();
+    let p = &report["replay"]["plausibility"];
+    assert_eq!(p["too_fast_poses"].as_u64(), Some(60), "{p}");
+    assert_eq!(p["speed_checked_poses"].as_u64(), Some(60), "{p}");
+    assert!(
+        (p["max_speed_mps"].as_f64().unwrap() - 0.3).abs() < 1e-9,
+        "{p}"
+    );
+    assert_eq!(p["pose_jumps"].as_u64(), Some(0), "{p}");
+    let w = report["replay"]["plausibility_warnings"]
+        .as_array()
+        .unwrap();
+    assert_eq!(w.len(), 1);
+    assert!(w[0].as_str().unwrap().contains("up to 0.300 m/s"), "{w:?}");
+    let html = std::fs::read_to_string(dir.join("out/report.html")).unwrap();
+    assert!(
+        html.contains("<title>Strider: replay of "),
+        "a meaningful title"
+    );
+    assert!(!html.contains("null"), "no null in the page");
+}
+
+#[test]
+fn a_replay_that_fails_midway_leaves_no_output_directory() {
+    let dir = common::temp_dir("replay", "midway");
+    let log = dir.join("drive.mcap");
+    // The scan's frame has no transform: found when the scan is delivered, after the output
+    // directory was made.
+    driving_log(&log, 20, 0.002, "lidar");
+    let e = common::one_line_error(&replay(&log, SLOW, &dir));
+    assert!(
+        e.contains("/robot/sensor_0/points, message 0")
+            && e.contains("no transform from frame \"lidar\" to the world frame \"map\" (world_frame is not set; \"map\" is its default)")
+            && e.contains("transforms in the file: map → sensor_0 (/tf)")
+            && e.contains("/tf_static is missing"),
+        "{e}"
+    );
+    assert!(
+        !dir.join("out").exists(),
+        "the empty output directory stayed"
+    );
 }

@@ -13,6 +13,7 @@ use strider_explore::kernel::TrajectorySample;
 use strider_explore::registry::{self, RobotSpec};
 use strider_explore::{FromParams, MissionParams, PhaseWall, TourExplorer};
 use strider_log::config::MissionConfig;
+use strider_log::replay::Plausibility;
 use strider_log::{LogReplay, ReplayConfig};
 use strider_map::rect::WorldRect;
 
@@ -98,8 +99,13 @@ pub struct ReplayCounts {
     pub clouds_uncoloured: usize,
     /// Points read.
     pub points: usize,
-    /// What the replay warns about.
+    /// Notes about the fallbacks the replay took (no gait or motion topic, skipped poses).
     pub warnings: Vec<String>,
+    /// The plausibility checks of the log: speeds above the gaits' v_max, pose jumps, stamps
+    /// going backwards, clouds without a pose near them.
+    pub plausibility: Plausibility,
+    /// What the plausibility checks warn about, one line each.
+    pub plausibility_warnings: Vec<String>,
 }
 
 /// Learning-update latency of a replay.
@@ -203,6 +209,9 @@ impl fmt::Display for Replay {
             self.cost_samples,
             self.path.display()
         )?;
+        for w in &r.replay.plausibility_warnings {
+            write!(f, "\n  warning: {w}")?;
+        }
         for w in &r.replay.warnings {
             write!(f, "\n  note: {w}")?;
         }
@@ -273,6 +282,8 @@ fn replay_on_worker(
             clouds_uncoloured: stats.clouds_uncoloured,
             points: stats.points,
             warnings: replay.warnings().to_vec(),
+            plausibility: replay.plausibility().clone(),
+            plausibility_warnings: replay.plausibility().warnings(),
         },
         phase_wall_s: log.phase_wall_s,
         models: models(&mission, &log),

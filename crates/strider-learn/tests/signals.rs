@@ -442,8 +442,9 @@ const TICK: f64 = 0.001;
 
 /// Brute force: Σ over accepted poses with stamp ≥ now − span of their tick's duration when the
 /// heading rate exceeds OMEGA, the rate taken from the newest earlier pose at least `baseline`
-/// old (the first pose when none is).
-fn brute_turning(accepted: &[(f64, f64)], span: f64, baseline: f64) -> f64 {
+/// old and at least `baseline · rate_hz` poses back (the first pose when none is).
+fn brute_turning(accepted: &[(f64, f64)], span: f64, baseline: f64, rate_hz: f64) -> f64 {
+    let poses = ((baseline * rate_hz).round() as usize).max(1);
     let Some(&(now, _)) = accepted.last() else {
         return 0.0;
     };
@@ -453,7 +454,7 @@ fn brute_turning(accepted: &[(f64, f64)], span: f64, baseline: f64) -> f64 {
             let (t, y) = accepted[i];
             let j = (0..i)
                 .rev()
-                .find(|&j| accepted[j].0 <= t - baseline)
+                .find(|&j| accepted[j].0 <= t - baseline && i - j >= poses)
                 .unwrap_or(0);
             let rate =
                 strider_core::geom::wrap_angle(y - accepted[j].1).abs() / (t - accepted[j].0);
@@ -492,10 +493,11 @@ proptest::proptest! {
                 }
             }
             proptest::prop_assert!(
-                (h.in_window() - brute_turning(&accepted, window, baseline)).abs() < 1e-9
+                (h.in_window() - brute_turning(&accepted, window, baseline, 100.0)).abs() < 1e-9
             );
             proptest::prop_assert!(
-                (h.in_support() - brute_turning(&accepted, window + extra, baseline)).abs() < 1e-9
+                (h.in_support() - brute_turning(&accepted, window + extra, baseline, 100.0)).abs()
+                    < 1e-9
             );
         }
     }
@@ -531,6 +533,48 @@ fn turning_time_over_a_baseline_ignores_heading_jitter() {
         "{}",
         smooth.in_window()
     );
+}
+
+/// A stream slower than the nominal rate gets a baseline of as many poses as the nominal one:
+/// wheel odometry logged at about 5 Hz with jittered stamps and 40 mrad of heading noise,
+/// driving straight, does not count as turning (over 0.5 s, three or four poses, it would);
+/// a real turn still does.
+#[test]
+fn turning_baseline_adapts_to_a_slow_pose_stream() {
+    use rand::{RngExt, SeedableRng};
+    let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(11);
+    let mut h = TurningTime::new(5.0, 10.0, 20.0, OMEGA, 0.5).unwrap();
+    let mut t = 0.0;
+    let mut turning_ticks = 0;
+    for k in 0..300u32 {
+        // Stamps 0.1–0.3 s apart, heading 1 rad ± 40 mrad: at most 0.08 rad/s over 10 poses (at
+        // least 1 s), up to 0.16 rad/s over 0.5 s.
+        t += rng.random_range(0.1..0.3);
+        h.push(t, 1.0 + rng.random_range(-0.04..0.04));
+        // After the stream's first poses (measured over fewer) have left the 5 s window.
+        if k > 50 && h.in_window() > 0.0 {
+            turning_ticks += 1;
+        }
+    }
+    assert_eq!(turning_ticks, 0, "straight driving counted as turning");
+    // The same stream over a 0.5 s baseline alone (the nominal rate taken as the stream's
+    // fastest, 10 Hz, so that 0.5 s is five poses; at 2 Hz it is one) reads as turning.
+    let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(11);
+    let mut short = TurningTime::new(5.0, 10.0, 2.0, OMEGA, 0.5).unwrap();
+    let mut t = 0.0;
+    for _ in 0..300u32 {
+        t += rng.random_range(0.1..0.3);
+        short.push(t, 1.0 + rng.random_range(-0.04..0.04));
+    }
+    assert!(short.in_support() > 0.0, "{}", short.in_support());
+    // A turn of 0.3 rad/s for 4 s at 5 Hz: turning.
+    let mut yaw = 1.0;
+    for _ in 0..20u32 {
+        t += 0.2;
+        yaw += 0.3 * 0.2;
+        h.push(t, yaw);
+    }
+    assert!(h.in_window() > 2.0, "{}", h.in_window());
 }
 
 #[test]

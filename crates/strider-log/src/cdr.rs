@@ -180,6 +180,40 @@ impl<'a> Decoder<'a> {
         Ok(s)
     }
 
+    /// Reads a `sequence<float32>` (a `u32` count aligned to 4, then the elements, which need
+    /// no further padding) as its element count and the slice of the message holding them,
+    /// checking that the bytes exist before using the count; [`Decoder::f32_at`] reads one.
+    pub fn float32s(&mut self) -> Result<(usize, &'a [u8]), CdrError> {
+        let n = self.u32()? as usize;
+        let end = n
+            .checked_mul(4)
+            .and_then(|len| self.pos.checked_add(len))
+            .filter(|&e| e <= self.msg.len())
+            .ok_or_else(|| {
+                self.malformed(
+                    self.pos,
+                    format!(
+                        "array of {n} float32 announced, {} bytes left",
+                        self.msg.len() - self.pos
+                    ),
+                )
+            })?;
+        let s = &self.msg[self.pos..end];
+        self.pos = end;
+        Ok((n, s))
+    }
+
+    /// Element `k` of a `float32` array read with [`Decoder::float32s`], in the message's byte
+    /// order; `None` past its end.
+    pub fn f32_at(&self, data: &[u8], k: usize) -> Option<f32> {
+        let b = data.get(k.checked_mul(4)?..)?.get(..4)?;
+        let b = [b[0], b[1], b[2], b[3]];
+        Some(match self.endian {
+            Endian::Little => f32::from_le_bytes(b),
+            Endian::Big => f32::from_be_bytes(b),
+        })
+    }
+
     /// Reads an aligned `u32`.
     pub fn u32(&mut self) -> Result<u32, CdrError> {
         let body = self.pos - HEADER_LEN;

@@ -19,10 +19,13 @@
 //! base_frame = "base_link"
 //!
 //! [[clouds]]                     # one table per sensor, in the order of the sensor ids
-//! topic = "/robot/sensor_0/points"   # sensor_msgs/msg/PointCloud2 with x, y, z and colour
+//! topic = "/robot/sensor_0/points"   # sensor_msgs/msg/PointCloud2 with x, y, z and colour,
+//!                                # or sensor_msgs/msg/LaserScan (the topic's schema decides:
+//!                                # a planar laser, read without colour)
 //! origin_frame = "sensor_0"      # the frame whose origin is the sensor (default: the
 //!                                # cloud's own frame; required for clouds in world_frame)
-//! missing_rgb = "error"          # or "gray": map clouds without a colour field uncoloured
+//! missing_rgb = "error"          # or "gray": map clouds without a colour field (and
+//!                                # LaserScans) uncoloured
 //!
 //! [gait]
 //! topic = "/robot/gait"          # std_msgs/msg/String (gait name) or std_msgs/msg/UInt8
@@ -68,6 +71,10 @@ pub struct ReplayConfig {
     /// The fixed frame the map is built in.
     #[serde(default = "world")]
     pub world_frame: String,
+    /// Whether `world_frame` was left out (it is then "map"): set by [`ReplayConfig::parse`],
+    /// for the errors about frames.
+    #[serde(skip)]
+    pub world_frame_defaulted: bool,
     /// Fuse only the scans the mission's keyframe rule wants.
     #[serde(default = "yes")]
     pub keyframes: bool,
@@ -139,7 +146,7 @@ impl Default for PoseConfig {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CloudConfig {
-    /// sensor_msgs/msg/PointCloud2 topic.
+    /// sensor_msgs/msg/PointCloud2 or sensor_msgs/msg/LaserScan topic (its schema decides).
     pub topic: String,
     /// The frame whose origin is the sensor (default: the cloud's frame).
     #[serde(default)]
@@ -243,7 +250,9 @@ impl ReplayConfig {
     /// Parses and checks a configuration; any text gives a configuration or an error, never a
     /// panic.
     pub fn parse(text: &str) -> Result<Self, LogError> {
-        let c: ReplayConfig = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+        let mut c: ReplayConfig = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+        c.world_frame_defaulted =
+            toml::from_str::<toml::Table>(text).is_ok_and(|t| !t.contains_key("world_frame"));
         c.validate()?;
         Ok(c)
     }

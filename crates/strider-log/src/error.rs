@@ -142,9 +142,26 @@ pub fn mcap_reason(e: &mcap::McapError, offset: u64) -> String {
              chunk may have",
             crate::replay::MAX_RECORD_BYTES >> 20
         ),
+        // A sound file written with a compression this reader lacks: nothing to repair.
+        E::UnsupportedCompression(name) => format!(
+            "its chunks are compressed with {}, which this reader does not decompress (it \
+             reads zstd, lz4 and uncompressed chunks, the compressions MCAP defines): rewrite \
+             the file with one of them",
+            quoted_prefix(name, 32)
+        ),
         E::Io(io) => format!("cannot read: {}", plain(&io.to_string())),
         e => format!("corrupt MCAP: {}", plain(&e.to_string())),
     }
+}
+
+/// The first `max` characters of `name`, quoted with control characters escaped (a name read
+/// from a file can be long and hold anything).
+fn quoted_prefix(name: &str, max: usize) -> String {
+    let mut s = format!("{:?}", name.chars().take(max).collect::<String>());
+    if name.chars().nth(max).is_some() {
+        s.push('…');
+    }
+    s
 }
 
 /// `text` as one line of plain text: terminal escape sequences and other control characters

@@ -206,17 +206,17 @@ fn models(h: &mut String, r: &Value) {
         let g = m.get("gait").and_then(|v| v.as_str()).unwrap_or("?");
         let _ = write!(
             h,
-            "<h3>gait {}</h3><p>{} cost samples, learning set {}, {} terrain classes, \
-             H<sup>GT</sup> = {}.</p><table><tr><th>class</th><th>dominant colour</th>\
+            "<h3>gait {}</h3><p>{} cost samples, learning set {}, {} terrain classes{}.</p>\
+             <table><tr><th>class</th><th>dominant colour</th>\
              <th>cells</th><th>learning cells</th><th>cost</th><th>variance</th></tr>",
             esc(g),
             raw(m, "cost_samples"),
             raw(m, "learning_set"),
             raw(m, "classes"),
-            m.get("h_gt").map_or(String::new(), |v| match v.as_f64() {
-                Some(x) => format!("{x:.3}"),
-                None => v.to_string(),
-            }),
+            // Without a ground truth (a replayed log) there is no H^GT to show.
+            m.get("h_gt")
+                .and_then(Value::as_f64)
+                .map_or(String::new(), |x| format!(", H<sup>GT</sup> = {x:.3}")),
         );
         for c in m
             .get("class_table")

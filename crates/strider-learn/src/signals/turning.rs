@@ -11,13 +11,21 @@ use super::ring::Ring;
 /// which enters the sample. A pose tick counts as turning when the heading rate exceeds
 /// `omega_turn`; the tick's duration is then added.
 ///
-/// The heading rate is measured over a *baseline* of `baseline_s` seconds: from the newest
-/// earlier pose at least `baseline_s` old (the first pose of the stream while it is younger) to
-/// the new one. Tick to tick, heading noise would swamp it: a logged pose with 5 mrad of
-/// independent heading jitter at 20 Hz gives rate noise of 0.14 rad/s, above any useful
-/// threshold, so every tick would count as turning and a real robot would store no cost sample;
-/// over 0.5 s the noise is 0.014 rad/s. A turn is then seen for up to `baseline_s` after it
-/// ends, which only widens the spans that are dropped.
+/// The heading rate is measured over a *baseline*: from the newest earlier pose that is at
+/// least `baseline_s` old **and** at least `baseline_s · rate_hz` poses back (the first pose of
+/// the stream while there is none) to the new one. Tick to tick, heading noise would swamp it:
+/// a logged pose with 5 mrad of independent heading jitter at 20 Hz gives rate noise of
+/// 0.14 rad/s, above any useful threshold, so every tick would count as turning and a real
+/// robot would store no cost sample; over 0.5 s the noise is 0.014 rad/s.
+///
+/// The pose count adapts the baseline to the pose rate: `baseline_s` is meant at the nominal
+/// `rate_hz`, and a slower stream gets a proportionally longer baseline (10 poses: 0.5 s at
+/// 20 Hz, 1.8 s for wheel odometry logged at 5.5 Hz), so the estimate always spans as many pose
+/// intervals. Over fewer, the jitter of a slow stream's stamps (poses stamped when logged,
+/// 0.06–0.33 s apart for a nominal 0.18 s) and its heading steps read as turning where the
+/// robot drove straight. At or above the nominal rate the time condition is the stricter one
+/// and the baseline is `baseline_s`. A turn is seen for up to one baseline after it ends, which
+/// only widens the spans that are dropped.
 ///
 /// A robot that turns on the spot at a path corner makes no headway for the length of the turn:
 /// a window spanning the turn measures the path's corner, not the terrain, and reads as stuck.
@@ -31,7 +39,9 @@ pub struct TurningTime {
     support_s: f64,
     omega_turn: f64,
     baseline_s: f64,
-    /// (stamp, yaw) of the poses of the last `baseline_s`, and the newest one before.
+    /// The fewest poses the baseline spans.
+    baseline_poses: usize,
+    /// (stamp, yaw) of the poses of the baseline, and the newest one before.
     baseline: Ring<(f64, f64)>,
     /// (stamp, seconds of turning since the previous pose) over the support span.
     poses: Ring<(f64, f64)>,
@@ -44,9 +54,9 @@ pub struct TurningTime {
 
 impl TurningTime {
     /// A tracker over a `window_s` window and a `support_s` support (raised to `window_s` if
-    /// shorter) for a pose stream of at most `rate_hz`, counting ticks whose heading rate over
-    /// a `baseline_s`-second baseline exceeds `omega_turn` rad/s; fails on a parameter that is
-    /// not finite and positive.
+    /// shorter) for a pose stream of nominally (and at most) `rate_hz`, counting ticks whose
+    /// heading rate over a baseline of at least `baseline_s` seconds and `baseline_s · rate_hz`
+    /// poses exceeds `omega_turn` rad/s; fails on a parameter that is not finite and positive.
     pub fn new(
         window_s: f64,
         support_s: f64,
@@ -60,12 +70,16 @@ impl TurningTime {
         check_positive("omega_turn", omega_turn)?;
         check_positive("baseline_s", baseline_s)?;
         let support_s = support_s.max(window_s);
+        let capacity = ring_capacity(baseline_s, rate_hz) + 1;
+        // Fewer than the ring holds (it holds 1.25 times as many, and more).
+        let baseline_poses = ((baseline_s * rate_hz).round() as usize).clamp(1, capacity - 1);
         Ok(Self {
             window_s,
             support_s,
             omega_turn,
             baseline_s,
-            baseline: Ring::new(ring_capacity(baseline_s, rate_hz) + 1),
+            baseline_poses,
+            baseline: Ring::new(capacity),
             poses: Ring::new(ring_capacity(support_s, rate_hz)),
             in_window_len: 0,
             sum_window: 0.0,
@@ -85,8 +99,9 @@ impl TurningTime {
             self.skips.out_of_order += 1;
             return;
         }
-        // Keep the newest pose at least baseline_s old at the front of the baseline.
-        while self.baseline.len() >= 2
+        // Keep the newest pose at least baseline_s old and baseline_poses back at the front of
+        // the baseline (the pose after the front is len - 1 poses back from the new one).
+        while self.baseline.len() > self.baseline_poses
             && self
                 .baseline
                 .get(1)

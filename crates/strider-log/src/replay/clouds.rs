@@ -2,12 +2,12 @@
 //! within the reorder window, and decoded into the world frame only when delivered.
 
 use super::reader::{Reader, Source};
-use super::roles::Role;
+use super::roles::{Role, check};
 use super::tf::TfBuffer;
 use crate::cdr;
 use crate::config::{CloudConfig, ReplayConfig};
 use crate::error::{LogError, MessageAt};
-use crate::ros2::{self, DecodedCloud, HeaderPrefix, nanos_to_seconds, seconds_to_nanos};
+use crate::ros2::{self, DecodedCloud, HeaderPrefix, MsgType, nanos_to_seconds, seconds_to_nanos};
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 use std::path::PathBuf;
@@ -28,6 +28,8 @@ pub(super) struct PendingCloud {
     pub(super) sensor: u8,
     /// Its index on its topic.
     pub(super) index: usize,
+    /// PointCloud2 or LaserScan.
+    ty: MsgType,
     data: Vec<u8>,
 }
 
@@ -124,6 +126,13 @@ impl CloudStream {
                 topic: &m.channel.topic,
                 index,
             };
+            let schema = m.channel.schema.as_ref().map_or("", |s| s.name.as_str());
+            let ty = check(
+                at.topic,
+                &m.channel.message_encoding,
+                schema,
+                Role::Cloud(i),
+            )?;
             let h: HeaderPrefix = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
             let ns = h.header.stamp.nanos().saturating_sub(self.start_ns);
             self.read_ns = self.read_ns.max(ns);
@@ -141,6 +150,7 @@ impl CloudStream {
                 seq: self.seq,
                 sensor: i,
                 index,
+                ty,
                 data: m.data.into_owned(),
             }));
         }
@@ -164,7 +174,11 @@ pub(super) fn world_cloud(
         header,
         mut points,
         uncoloured,
-    } = ros2::decode_cloud(&c.data, cc.missing_rgb).map_err(|e| at.decode(e))?;
+    } = match c.ty {
+        MsgType::LaserScan => ros2::decode_scan(&c.data),
+        _ => ros2::decode_cloud(&c.data, cc.missing_rgb),
+    }
+    .map_err(|e| at.decode(e))?;
     let t = header.stamp.nanos();
     let frame = header.frame_id.0;
     if frame.is_empty() {
@@ -176,11 +190,9 @@ pub(super) fn world_cloud(
             "the cloud is in the world frame {world:?}: set origin_frame to the sensor's frame"
         )));
     }
-    let origin = tf
-        .lookup(origin_frame, world, t)
-        .map_err(|e| at.content(e))?;
+    let origin = tf.lookup(origin_frame, t).map_err(|e| at.content(e))?;
     if frame != *world {
-        let iso = tf.lookup(&frame, world, t).map_err(|e| at.content(e))?;
+        let iso = tf.lookup(&frame, t).map_err(|e| at.content(e))?;
         for p in &mut points {
             let q = iso.apply([p.x as f64, p.y as f64, p.z as f64]);
             (p.x, p.y, p.z) = (q[0] as f32, q[1] as f32, q[2] as f32);

@@ -1,6 +1,7 @@
 //! The checking pass of a replay: every message on a configured topic is checked and all but
 //! the clouds' payloads are decoded, so a faulty log is reported before any work.
 
+use super::plausibility::StampOrder;
 use super::reader::{Reader, Source};
 use super::roles::{Role, check};
 use super::tf::{Iso, TfBuffer};
@@ -8,8 +9,8 @@ use crate::cdr;
 use crate::config::ReplayConfig;
 use crate::error::{LogError, MessageAt};
 use crate::ros2::{
-    HeaderPrefix, MsgType, Odometry, Quaternion, StringMsg, TfMessage, UInt8Msg, nanos_to_seconds,
-    seconds_to_nanos,
+    HeaderPrefix, MissingRgb, MsgType, Odometry, Quaternion, StringMsg, TfMessage, UInt8Msg,
+    nanos_to_seconds,
 };
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
@@ -47,6 +48,10 @@ pub(super) struct LogIndex {
     pub(super) motion: Vec<(i64, u64, u8)>,
     /// Clouds per configured cloud topic.
     pub(super) cloud_count: Vec<usize>,
+    /// The clouds' stamps.
+    pub(super) cloud_ns: Vec<i64>,
+    /// The order of the stamps of the poses and clouds in the file.
+    pub(super) order: StampOrder,
     /// Poses, transforms, gait and motion messages kept.
     kept: usize,
     /// The earliest and latest stamps.
@@ -74,12 +79,14 @@ impl LogIndex {
         let mut ix = LogIndex {
             counts: BTreeMap::new(),
             messages: 0,
-            tf: TfBuffer::new(seconds_to_nanos(cfg.tf.tolerance_s)),
+            tf: TfBuffer::new(cfg),
             odoms: Vec::new(),
             base_tf: Vec::new(),
             gaits: Vec::new(),
             motion: Vec::new(),
             cloud_count: vec![0; cfg.clouds.len()],
+            cloud_ns: Vec::new(),
+            order: StampOrder::default(),
             kept: 0,
             lo: (i64::MAX, String::new(), 0),
             hi: (i64::MIN, String::new(), 0),
@@ -109,7 +116,7 @@ impl LogIndex {
             return Ok(());
         };
         let schema = m.channel.schema.as_ref().map_or("", |s| s.name.as_str());
-        check(topic, &m.channel.message_encoding, schema, role)?;
+        let ty = check(topic, &m.channel.message_encoding, schema, role)?;
         let at = MessageAt { topic, index };
         self.keep(at)?;
         let log_ns = i64::try_from(m.log_time).unwrap_or(i64::MAX);
@@ -120,10 +127,13 @@ impl LogIndex {
             }
             Role::Tf | Role::TfStatic => {
                 let msg: TfMessage = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
+                if role == Role::TfStatic {
+                    self.tf.note_static_message();
+                }
                 self.transforms(msg, role == Role::TfStatic, at, cx.cfg)?;
             }
             Role::Gait => {
-                let g = gait(&m.data, schema, at, cx.gait_names)?;
+                let g = gait(&m.data, ty, at, cx.gait_names)?;
                 self.span(log_ns, at);
                 self.gaits.push((log_ns, self.messages, g));
             }
@@ -133,9 +143,21 @@ impl LogIndex {
                 self.motion.push((log_ns, self.messages, v.data));
             }
             Role::Cloud(i) => {
+                if ty == MsgType::LaserScan
+                    && cx.cfg.clouds[i as usize].missing_rgb == MissingRgb::Error
+                {
+                    return Err(at.content(format!(
+                        "{} has no colour: set missing_rgb = \"gray\" in the cloud's replay \
+                         config to map it uncoloured",
+                        ty.name()
+                    )));
+                }
                 // Only the header now; the payload is checked when it is delivered.
                 let h: HeaderPrefix = cdr::decode(&m.data).map_err(|e| at.decode(e))?;
-                self.span(h.header.stamp.nanos(), at);
+                let ns = h.header.stamp.nanos();
+                self.span(ns, at);
+                self.order.note(topic, topic, index, ns);
+                self.cloud_ns.push(ns);
                 self.cloud_count[i as usize] += 1;
             }
         }
@@ -169,6 +191,7 @@ impl LogIndex {
     fn odometry(&mut self, o: Odometry, at: MessageAt) {
         let ns = o.header.stamp.nanos();
         self.span(ns, at);
+        self.order.note(at.topic, at.topic, at.index, ns);
         let p = o.pose.pose;
         let iso = Iso {
             q: p.orientation.normalized().unwrap_or(Quaternion {
@@ -210,6 +233,7 @@ impl LogIndex {
                 let ns = ts.header.stamp.nanos();
                 if cfg.pose.from_tf && child == cfg.pose.base_frame {
                     self.span(ns, at);
+                    self.order.note(&child, at.topic, at.index, ns);
                     self.base_tf.push((ns, self.messages));
                 }
                 self.tf.add(child, ns, parent, iso);
@@ -267,10 +291,10 @@ impl LogIndex {
     }
 }
 
-/// The gait of a gait message: an index (`std_msgs/UInt8`) or a name (`std_msgs/String`) of
-/// one of the robot's `gait_names`.
-fn gait(data: &[u8], schema: &str, at: MessageAt, gait_names: &[&str]) -> Result<GaitId, LogError> {
-    if schema == MsgType::UInt8.name() {
+/// The gait of a gait message of type `ty`: an index (`std_msgs/UInt8`) or a name
+/// (`std_msgs/String`) of one of the robot's `gait_names`.
+fn gait(data: &[u8], ty: MsgType, at: MessageAt, gait_names: &[&str]) -> Result<GaitId, LogError> {
+    if ty == MsgType::UInt8 {
         let v: UInt8Msg = cdr::decode(data).map_err(|e| at.decode(e))?;
         if (v.data as usize) >= gait_names.len() {
             return Err(at.content(format!(

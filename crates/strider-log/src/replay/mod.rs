@@ -23,17 +23,24 @@
 //! * The motion state returned by `advance` is the latest motion message (bit 0 idle, bit 1
 //!   blocked); without a motion topic the robot counts as driving throughout (cost samples
 //!   are then also taken while it stands: trim such phases off the log).
-//! * A cloud is transformed from its frame into the world frame through /tf (a cloud already
+//! * A cloud topic carries `sensor_msgs/PointCloud2` or `sensor_msgs/LaserScan` (read as the
+//!   cloud of its valid ranges in the scan's frame, without colour; see `ros2::decode_scan`).
+//!   A cloud is transformed from its frame into the world frame through /tf (a cloud already
 //!   in the world frame is used bit for bit); its origin is the translation of `origin_frame`
 //!   (default: its own frame). Transforms are interpolated between stamps and used up to
 //!   `tolerance_s` outside them; a missing transform is an error.
 //!
+//! * Once read, the log is checked for plausibility ([`LogReplay::plausibility`]): speeds
+//!   above the gaits' v_max, pose jumps, stamps going backwards, clouds without a pose near
+//!   them. They are counted and warned about, not refused.
+//!
 //! The parts, in the order a replay uses them: `roles` (what each topic is for), `reader` (the
 //! bounded MCAP reader), `index` (the checking pass), `tf` (the transform tree), `poses` (world
-//! poses and their gaits) and `clouds` (the streamed clouds).
+//! poses and their gaits), `plausibility` (the checks) and `clouds` (the streamed clouds).
 
 mod clouds;
 mod index;
+mod plausibility;
 mod poses;
 mod reader;
 mod roles;
@@ -41,6 +48,9 @@ mod tf;
 
 pub use clouds::MAX_PENDING_CLOUD_BYTES;
 pub use index::{MAX_INDEXED, MAX_SPAN_S};
+pub use plausibility::{
+    JUMP_MIN_M, JUMP_SPEED_FACTOR, Plausibility, SPEED_BASELINE_S, SPEED_MARGIN,
+};
 pub use reader::MAX_RECORD_BYTES;
 
 use crate::config::ReplayConfig;
@@ -101,6 +111,7 @@ pub struct LogReplay {
     now: f64,
     stats: ReplayStats,
     warnings: Vec<String>,
+    plausibility: Plausibility,
 }
 
 impl LogReplay {
@@ -147,6 +158,7 @@ impl LogReplay {
         assign_gaits(&mut poses, &mut ix.gaits, start, gait);
         stats.poses = poses.len();
         let warnings = fallback_warnings(cfg, &ix, bad, gait_names.get(gait.0 as usize));
+        let plausibility = check_plausibility(&mut ix, &poses, gaits, cfg, start);
         let mut motion = std::mem::take(&mut ix.motion);
         motion.sort_by_key(|m| (m.0, m.1));
         for m in &mut motion {
@@ -167,6 +179,7 @@ impl LogReplay {
             now: 0.0,
             stats,
             warnings,
+            plausibility,
         })
     }
 
@@ -190,6 +203,11 @@ impl LogReplay {
     /// Notes about fallbacks taken (no gait topic, no motion topic, skipped poses).
     pub fn warnings(&self) -> &[String] {
         &self.warnings
+    }
+
+    /// What the plausibility checks found in the log (its warnings: [`Plausibility::warnings`]).
+    pub fn plausibility(&self) -> &Plausibility {
+        &self.plausibility
     }
 
     /// Delivers the poses and the clouds stamped up to `limit` (relative ns) in stamp order,
@@ -293,6 +311,29 @@ fn fallback_warnings(
         );
     }
     warnings
+}
+
+/// The plausibility checks of the log of `ix` with its world `poses` (relative to `start`) for
+/// a robot with `gaits`.
+fn check_plausibility(
+    ix: &mut LogIndex,
+    poses: &[TimedPose],
+    gaits: &[GaitSpec],
+    cfg: &ReplayConfig,
+    start: i64,
+) -> Plausibility {
+    let mut p = Plausibility {
+        backward_stamps: ix.order.backward,
+        first_backward: ix.order.first.take(),
+        ..Default::default()
+    };
+    p.check_poses(poses, gaits);
+    let clouds: Vec<i64> = std::mem::take(&mut ix.cloud_ns)
+        .into_iter()
+        .map(|ns| ns.saturating_sub(start))
+        .collect();
+    p.check_clouds(&clouds, poses, seconds_to_nanos(cfg.tf.tolerance_s));
+    p
 }
 
 impl Robot for LogReplay {

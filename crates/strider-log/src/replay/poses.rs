@@ -67,14 +67,14 @@ pub(super) fn world_poses(
     };
     if cfg.pose.from_tf {
         for &(ns, s) in &ix.base_tf {
-            let iso = ix
-                .tf
-                .lookup(&cfg.pose.base_frame, world, ns)
-                .map_err(|reason| LogError::Content {
-                    topic: cfg.tf.topic.clone(),
-                    index: 0,
-                    reason,
-                })?;
+            let iso =
+                ix.tf
+                    .lookup(&cfg.pose.base_frame, ns)
+                    .map_err(|reason| LogError::Content {
+                        topic: cfg.tf.topic.clone(),
+                        index: 0,
+                        reason,
+                    })?;
             push(ns, s, iso);
         }
     } else {
@@ -83,7 +83,7 @@ pub(super) fn world_poses(
                 *iso
             } else {
                 ix.tf
-                    .lookup(frame, world, *ns)
+                    .lookup(frame, *ns)
                     .map_err(|reason| LogError::Content {
                         topic: cfg.pose.topic.clone(),
                         index: *index,

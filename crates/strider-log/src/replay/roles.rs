@@ -48,8 +48,14 @@ pub(super) fn topic_roles(cfg: &ReplayConfig) -> Result<HashMap<String, Role>, L
     Ok(roles)
 }
 
-/// Checks a topic's encoding and schema against its role.
-pub(super) fn check(topic: &str, encoding: &str, schema: &str, role: Role) -> Result<(), LogError> {
+/// Checks a topic's encoding and schema against its role; returns the message type (a cloud
+/// topic carries PointCloud2 or LaserScan, a gait topic String or UInt8).
+pub(super) fn check(
+    topic: &str,
+    encoding: &str,
+    schema: &str,
+    role: Role,
+) -> Result<MsgType, LogError> {
     if encoding != "cdr" {
         return Err(LogError::Encoding {
             topic: topic.into(),
@@ -61,12 +67,12 @@ pub(super) fn check(topic: &str, encoding: &str, schema: &str, role: Role) -> Re
         Role::Tf | Role::TfStatic => &[MsgType::TfMessage],
         Role::Gait => &[MsgType::String, MsgType::UInt8],
         Role::Motion => &[MsgType::UInt8],
-        Role::Cloud(_) => &[MsgType::PointCloud2],
+        Role::Cloud(_) => &[MsgType::PointCloud2, MsgType::LaserScan],
     };
     // rosbag2 also writes the ROS 1 style name without "/msg/" for some types.
     let matches = |t: &MsgType| schema == t.name() || schema == t.name().replace("/msg/", "/");
-    if expected.iter().any(matches) {
-        Ok(())
+    if let Some(t) = expected.iter().find(|t| matches(t)) {
+        Ok(*t)
     } else {
         Err(LogError::Schema {
             topic: topic.into(),

@@ -47,6 +47,8 @@ pub enum MsgType {
     TfMessage,
     /// `sensor_msgs/msg/PointCloud2`.
     PointCloud2,
+    /// `sensor_msgs/msg/LaserScan`.
+    LaserScan,
     /// `std_msgs/msg/String`.
     String,
     /// `std_msgs/msg/UInt8`.
@@ -60,6 +62,7 @@ impl MsgType {
             MsgType::Odometry => "nav_msgs/msg/Odometry",
             MsgType::TfMessage => "tf2_msgs/msg/TFMessage",
             MsgType::PointCloud2 => "sensor_msgs/msg/PointCloud2",
+            MsgType::LaserScan => "sensor_msgs/msg/LaserScan",
             MsgType::String => "std_msgs/msg/String",
             MsgType::UInt8 => "std_msgs/msg/UInt8",
         }
@@ -121,6 +124,13 @@ impl MsgType {
                          string name\nuint32 offset\nuint8 datatype\nuint32 count\n",
                     ),
                 ],
+            ),
+            MsgType::LaserScan => definition(
+                "std_msgs/Header header\nfloat32 angle_min\nfloat32 angle_max\n\
+                 float32 angle_increment\nfloat32 time_increment\nfloat32 scan_time\n\
+                 float32 range_min\nfloat32 range_max\nfloat32[] ranges\n\
+                 float32[] intensities\n",
+                &[HEADER, TIME],
             ),
             MsgType::String => "string data\n".into(),
             MsgType::UInt8 => "uint8 data\n".into(),

@@ -178,3 +178,81 @@ fn time_conversions() {
     assert_eq!(seconds_to_nanos(0.15), 150_000_000);
     assert_eq!(seconds_to_nanos(f64::NAN), 0);
 }
+
+fn laser_scan(ranges: Vec<f32>) -> LaserScan {
+    LaserScan {
+        header: Header {
+            stamp: Time { sec: 2, nanosec: 7 },
+            frame_id: "laser".into(),
+        },
+        angle_min: -std::f32::consts::FRAC_PI_2,
+        angle_max: std::f32::consts::FRAC_PI_2,
+        angle_increment: std::f32::consts::FRAC_PI_4,
+        range_min: 0.1,
+        range_max: 30.0,
+        intensities: vec![5.0; ranges.len()],
+        ranges,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn scan_ranges_become_points_and_invalid_ones_none() {
+    let s = laser_scan(vec![
+        1.0,
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        0.05,
+        2.0,
+    ]);
+    let mut s2 = s.clone();
+    s2.ranges.push(31.0);
+    // The same in both byte orders.
+    let le = encode_scan(&s2).unwrap();
+    let be = ::cdr::serialize::<_, _, ::cdr::CdrBe>(&s2, ::cdr::Infinite).unwrap();
+    for msg in [le, be] {
+        let c = decode_scan(&msg).unwrap();
+        assert_eq!(c.header, s.header);
+        assert!(c.uncoloured);
+        assert_eq!(c.points.len(), 2, "{:?}", c.points);
+        // Beam 0 at -90°, beam 5 at -90° + 5 · 45° = 135°.
+        let (p, q) = (c.points[0], c.points[1]);
+        assert!(
+            p.x.abs() < 1e-6 && (p.y + 1.0).abs() < 1e-6 && p.z == 0.0,
+            "{p:?}"
+        );
+        let a = -std::f64::consts::FRAC_PI_2 + 5.0 * std::f64::consts::FRAC_PI_4;
+        assert!((q.x as f64 - 2.0 * a.cos()).abs() < 1e-6, "{q:?}");
+        assert!((q.y as f64 - 2.0 * a.sin()).abs() < 1e-6, "{q:?}");
+        assert_eq!(q.rgb, [128; 3]);
+    }
+}
+
+#[test]
+fn scan_sizes_are_checked_before_allocating() {
+    let msg = encode_scan(&laser_scan(vec![1.0; 8])).unwrap();
+    // The ranges' count sits before the 8 ranges, the intensities' count and 8 intensities.
+    let at = msg.len() - 4 * (1 + 8 + 1 + 8);
+    assert_eq!(&msg[at..at + 4], &8u32.to_le_bytes());
+    // 8 ranges, a count and 8 intensities follow: 17 float32 fit, 18 do not.
+    for n in [18u32, 1 << 30, u32::MAX] {
+        let mut m = msg.clone();
+        m[at..at + 4].copy_from_slice(&n.to_le_bytes());
+        let e = decode_scan(&m).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("array of {n} float32 announced")),
+            "{e}"
+        );
+    }
+    // More beams than a cloud may have points, all present.
+    let huge = encode_scan(&laser_scan(vec![1.0; MAX_CLOUD_POINTS + 1])).unwrap();
+    let e = decode_scan(&huge).unwrap_err().to_string();
+    assert!(e.contains("more than the 16777216"), "{e}");
+    let mut s = laser_scan(vec![1.0]);
+    s.angle_min = f32::INFINITY;
+    let e = decode_scan(&encode_scan(&s).unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("angle_min = inf"), "{e}");
+}

@@ -1,5 +1,8 @@
 //! What the replay tests share: small synthetic logs and their replay configuration.
 
+// Each test binary uses a part of these.
+#![allow(dead_code)]
+
 use std::path::{Path, PathBuf};
 use strider_core::GaitSpec;
 use strider_core::interface::{Robot, SensorSink};
@@ -10,6 +13,8 @@ use strider_log::ros2::{
     TransformStamped, UInt8Msg, Vector3,
 };
 use strider_log::{LogError, LogReplay, McapWriter, ReplayConfig};
+use strider_map::ElevationMap;
+use strider_map::params::MapParams;
 
 pub fn gaits() -> Vec<GaitSpec> {
     vec![
@@ -151,4 +156,63 @@ pub fn drain(r: &mut LogReplay) -> Result<Collect, LogError> {
         r.advance(0.05, &mut c)?;
     }
     Ok(c)
+}
+
+/// Rewrites the log at `src` into `dst` with the mcap crate's writer, its chunks compressed
+/// with `compression` (`None`: uncompressed) and small, so that the log spans several.
+pub fn recompress(src: &Path, dst: &Path, compression: Option<mcap::Compression>) {
+    let bytes = std::fs::read(src).unwrap();
+    let f = std::io::BufWriter::new(std::fs::File::create(dst).unwrap());
+    let mut w = mcap::WriteOptions::new()
+        .compression(compression)
+        .chunk_size(Some(2048))
+        .profile("ros2")
+        .create(f)
+        .unwrap();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        w.write(&m.unwrap()).unwrap();
+    }
+    w.finish().unwrap();
+}
+
+/// A cloud bit for bit: stamp, sensor, origin, points' coordinates and colours.
+pub type CloudBits = (u64, u8, [u64; 3], Vec<([u32; 3], [u8; 3])>);
+
+/// The delivered clouds bit for bit.
+pub fn cloud_bits(c: &Collect) -> Vec<CloudBits> {
+    c.clouds
+        .iter()
+        .map(|c| {
+            let o = [c.origin.x, c.origin.y, c.origin.z].map(f64::to_bits);
+            let pts = c
+                .points
+                .iter()
+                .map(|p| ([p.x, p.y, p.z].map(f32::to_bits), p.rgb));
+            (c.stamp.to_bits(), c.sensor, o, pts.collect())
+        })
+        .collect()
+}
+
+/// The map of the delivered clouds (default map parameters).
+pub fn map_of(c: &Collect) -> ElevationMap {
+    let mut map = ElevationMap::new(MapParams::default());
+    for cloud in &c.clouds {
+        map.integrate(cloud);
+    }
+    map
+}
+
+/// Asserts that two maps observed the same cells with the same elevations, bit for bit.
+pub fn assert_same_map(a: &ElevationMap, b: &ElevationMap, what: &str) {
+    assert_eq!(a.scan_count(), b.scan_count(), "{what}: scans");
+    let rect = a.known_bounds().expect("a non-empty map");
+    assert_eq!(Some(rect), b.known_bounds(), "{what}: bounds");
+    assert_eq!(a.observed_raster(rect), b.observed_raster(rect), "{what}");
+    let bits = |m: &ElevationMap| -> Vec<u32> {
+        m.elevation_raster(rect)
+            .iter()
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    assert_eq!(bits(a), bits(b), "{what}: elevations");
 }
