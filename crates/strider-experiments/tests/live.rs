@@ -231,6 +231,7 @@ fn serving_live_and_pacing_leave_the_recording_byte_for_byte_the_same() {
     let served = record(&dir.join("served.mcap"), Some(&server), rate);
     assert!(alone.len() > 1000);
     assert!(alone == served, "the recordings differ");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
