@@ -1,8 +1,10 @@
 //! The command line: every subcommand, flag and default of `strider`.
 
+use std::net::SocketAddr;
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
+use strider_experiments::pace::Rate;
 
 use crate::flags;
 
@@ -168,6 +170,16 @@ pub struct RunArgs {
     /// FILE once finished, also when the mission is interrupted (Ctrl-C).
     #[arg(long, value_name = "FILE")]
     pub mcap: Option<PathBuf>,
+    /// Serve the mission live to Foxglove over its WebSocket protocol on ADDR (IP:PORT,
+    /// default 127.0.0.1:8765): in Foxglove, Open connection → Foxglove WebSocket →
+    /// ws://ADDR. The channels are those of an MCAP recording. A bare --live goes after
+    /// the other arguments (or write --live=ADDR); the server stops when the command ends.
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:8765", value_parser = flags::live_addr)]
+    pub live: Option<SocketAddr>,
+    /// Pace the mission at R times real time (1 = simulated speed), e.g. to watch it with
+    /// --live; without it, it runs as fast as it can. Results are the same. 0.01 to 10000.
+    #[arg(long, value_name = "R", value_parser = flags::rate, allow_negative_numbers = true)]
+    pub rate: Option<Rate>,
 }
 
 #[derive(Args, Debug)]
@@ -182,6 +194,16 @@ pub struct ReplayArgs {
     /// Output directory (created if missing).
     #[arg(long, short = 'o', default_value = "out/replay")]
     pub out: PathBuf,
+    /// Serve the replay live to Foxglove over its WebSocket protocol on ADDR (IP:PORT,
+    /// default 127.0.0.1:8765): in Foxglove, Open connection → Foxglove WebSocket →
+    /// ws://ADDR. The channels are those of an MCAP recording. A bare --live goes after
+    /// the other arguments (or write --live=ADDR); the server stops when the command ends.
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:8765", value_parser = flags::live_addr)]
+    pub live: Option<SocketAddr>,
+    /// Pace the replay at R times real time (1 = recorded speed), e.g. to watch it with
+    /// --live; without it, it runs as fast as it can. Results are the same. 0.01 to 10000.
+    #[arg(long, value_name = "R", value_parser = flags::rate, allow_negative_numbers = true)]
+    pub rate: Option<Rate>,
 }
 
 #[derive(Args, Debug)]

@@ -21,10 +21,15 @@
 //! | `--c1-runs` (learn bench) | 1 ..= 1000 |
 //! | `--c1-pairs` (learn bench) | 0 (the whole lane) ..= 100 000 |
 //! | `--seed`, `--world-seed` | any integer 0 ..= 2⁶⁴ − 1 |
+//! | `--rate` (run, replay) | finite, 0.01 ..= 10⁴ × real time |
+//! | `--live` (run, replay) | an address IP:PORT (port 0: any free port) |
 
 use std::fmt::Display;
+use std::net::SocketAddr;
 use std::str::FromStr;
 
+use strider_experiments::live::DEFAULT_ADDR;
+use strider_experiments::pace::Rate;
 use strider_experiments::parallel::MAX_JOBS;
 use strider_experiments::trial::{MAX_TIME_LIMIT_S, MAX_TRIALS};
 use strider_experiments::{map_build, martin_corke, nardi19, pragr18, pragr19};
@@ -145,6 +150,22 @@ pub fn c1_pairs(s: &str) -> Result<usize, String> {
     int_in(s, 0, pragr18::MAX_C1_PAIRS)
 }
 
+/// `--rate` of `strider run` and `strider replay`: a multiple of real time.
+pub fn rate(s: &str) -> Result<Rate, String> {
+    let v = s.trim().parse::<f64>().unwrap_or(f64::NAN);
+    Rate::new(v).map_err(|e| e.to_string())
+}
+
+/// `--live ADDR` of `strider run` and `strider replay`. A value that is no address is most
+/// likely the positional argument after a bare `--live`, hence the hint.
+pub fn live_addr(s: &str) -> Result<SocketAddr, String> {
+    s.trim().parse::<SocketAddr>().map_err(|_| {
+        format!(
+            "not an address IP:PORT such as {DEFAULT_ADDR} (a bare --live goes after the other arguments, or write --live=ADDR)"
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -179,5 +200,12 @@ mod tests {
         assert!(lambda("-0.5").is_err() && lambda("NaN").is_err());
         assert_eq!(c1_pairs("0"), Ok(0));
         assert!(pairs("1").is_err());
+        assert_eq!(rate("1").map(Rate::get), Ok(1.0));
+        for bad in ["0", "-1", "NaN", "1e5", "x"] {
+            let e = rate(bad).unwrap_err();
+            assert!(e.contains("from 0.01 to 1e4"), "{bad}: {e}");
+        }
+        assert_eq!(live_addr("127.0.0.1:0"), Ok("127.0.0.1:0".parse().unwrap()));
+        assert!(live_addr("log.mcap").unwrap_err().contains("--live=ADDR"));
     }
 }

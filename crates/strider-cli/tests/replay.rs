@@ -31,7 +31,7 @@ fn replay_of_a_recorded_mission_gives_the_live_map_and_costs() {
         &sc,
         params.clone(),
         1,
-        (Some(&file), &Cancel::new()),
+        (Some(file.as_path()), &Cancel::new()),
         |_| {},
     )
     .unwrap();
@@ -149,9 +149,15 @@ fn every_strategy_records_and_its_replay_gives_its_map() {
             let (_, configured) = configure(&sc, name, &[]).unwrap();
             let mut live = configured.build(&robot, 2).unwrap();
             let file = dir.join(format!("{scenario}-{name}.mcap"));
-            let written = drive(&sc, 2, &mut live, (Some(&file), &Cancel::new()), |_, _| {})
-                .unwrap()
-                .unwrap();
+            let written = drive(
+                &sc,
+                2,
+                &mut live,
+                (Some(file.as_path()), &Cancel::new()),
+                |_, _| {},
+            )
+            .unwrap()
+            .unwrap();
             assert!(written.messages["/strider/map"] > 0, "{name} on {scenario}");
             assert!(
                 written.messages["/strider/goals"] > 10,

@@ -21,7 +21,8 @@
 //! Shared by them: [`trial`] (a scenario's world in the simulator behind the robot interface,
 //! a mission on it, the benchmark tours), [`run`] (`strider run` of any strategy), [`compare`]
 //! (strategies of different papers on the same worlds), [`replay`] (a recorded log through the
-//! mission's mapping and learning), [`map_build`] (the map judged against ground truth),
+//! mission's mapping and learning), [`live`] and [`pace`] (a mission recorded, served to
+//! Foxglove while it runs, paced to the wall clock), [`map_build`] (the map judged against ground truth),
 //! [`stats`] (one definition of each statistic), [`report`] and [`render`] (the HTML report and
 //! the figures), [`scenario_figures`], [`io`], [`parallel`], [`progress`] and [`cancel`] (stopping
 //! early on Ctrl-C without losing what was done). [`soak`] runs every strategy on many worlds and
@@ -31,9 +32,11 @@ pub mod cancel;
 pub mod compare;
 pub mod io;
 mod journal;
+pub mod live;
 pub mod map_build;
 pub mod martin_corke;
 pub mod nardi19;
+pub mod pace;
 mod pairs;
 pub mod parallel;
 pub mod pragr18;

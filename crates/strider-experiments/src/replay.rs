@@ -17,8 +17,9 @@ use strider_log::replay::Plausibility;
 use strider_log::{LogReplay, ReplayConfig};
 use strider_map::rect::WorldRect;
 
-use crate::cancel::{Cancel, Completion, Interrupted};
+use crate::cancel::{Completion, Interrupted};
 use crate::io::create_dir;
+use crate::live::{Loop, Watch};
 use crate::parallel::on_worker;
 use crate::pragr22::report::{MedianMax, ModelReport, models};
 use crate::pragr22::write_figures;
@@ -220,20 +221,22 @@ impl fmt::Display for Replay {
 }
 
 /// Runs `strider replay` of `log_path` with the configuration file `config` into `out` (on a
-/// pool thread, see [`on_worker`]) until the log ends or `cancel` is requested.
-pub fn replay(
+/// pool thread, see [`on_worker`]) until the log ends or the cancellation flag of `watch` is
+/// requested; paced and published on a live view as `watch` says ([`Watch::run`]).
+pub fn replay<'a>(
     (log_path, config): (&Path, &Path),
     out: &Path,
-    cancel: &Cancel,
+    watch: impl Into<Watch<'a>>,
     progress: &dyn Progress,
 ) -> Result<Replay> {
-    on_worker(|| replay_on_worker((log_path, config), out, cancel, progress))
+    let watch = watch.into();
+    on_worker(|| replay_on_worker((log_path, config), out, watch, progress))
 }
 
 fn replay_on_worker(
     (log_path, config): (&Path, &Path),
     out: &Path,
-    cancel: &Cancel,
+    watch: Watch,
     progress: &dyn Progress,
 ) -> Result<Replay> {
     let wall = Instant::now();
@@ -243,9 +246,9 @@ fn replay_on_worker(
     params.time_limit_s = replay.time_limit_s(1.0 / params.rates.control_hz);
     create_dir(out)?;
     progress.start(params.time_limit_s.max(1.0) as u64);
+    let gaits = params.gaits.iter().map(|g| g.name.clone()).collect();
     let mut mission = TourExplorer::mission(params)?;
-    cancel.watch(&mut mission);
-    mission.ingest(&mut replay, |_, p| {
+    watch.run(&mut mission, &mut replay, (gaits, Loop::Ingest), |_, p| {
         progress.at(
             p.time_s as u64,
             &format!(

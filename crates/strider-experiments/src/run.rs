@@ -14,6 +14,8 @@ use strider_scenario::Scenario;
 
 use crate::cancel::{Cancel, Completion, Interrupted};
 use crate::io::create_dir;
+use crate::live::{LiveServer, Watch};
+use crate::pace::Rate;
 use crate::parallel::on_worker;
 use crate::progress::Progress;
 use crate::trial::{checked_time_limit, configure, load, termination};
@@ -38,14 +40,23 @@ pub struct RunRequest<'a> {
     pub out: &'a Path,
     /// MCAP recording file.
     pub mcap: Option<&'a Path>,
+    /// The live view to publish the mission on.
+    pub live: Option<&'a LiveServer>,
+    /// Pacing to the wall clock (`--rate`); none runs as fast as it can.
+    pub rate: Option<Rate>,
     /// Stops the mission early when requested; the report is then written marked incomplete.
     pub cancel: &'a Cancel,
 }
 
 impl RunRequest<'_> {
-    /// The recording file and the cancellation flag, as [`crate::trial::drive`] takes them.
-    pub(crate) fn watch(&self) -> (Option<&Path>, &Cancel) {
-        (self.mcap, self.cancel)
+    /// How the mission is watched: recording, live view, pace, cancellation.
+    pub(crate) fn watch(&self) -> Watch<'_> {
+        Watch {
+            mcap: self.mcap,
+            live: self.live,
+            rate: self.rate,
+            cancel: self.cancel,
+        }
     }
 }
 

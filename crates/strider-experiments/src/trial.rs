@@ -7,9 +7,6 @@
 //! mission itself never sees the scenario's world.
 
 use anyhow::{Context, Result, bail};
-use std::cell::RefCell;
-use std::path::Path;
-use std::rc::Rc;
 use strider_core::Pose2;
 use strider_explore::FromParams;
 use strider_explore::evaluate::{NavigationMode, TourResult, run_tour};
@@ -18,14 +15,12 @@ use strider_explore::{
     GaitSpec, Mission, MissionLog, MissionParams, MissionProgress, MissionStrategy, Strategy,
     TourExplorer,
 };
-use strider_log::recorder::{Recorder, RecorderOptions, Recording};
 use strider_log::writer::WriteSummary;
 use strider_map::rect::WorldRect;
 use strider_scenario::{Scenario, SensorKind};
 use strider_sim::Simulator;
 
-use crate::cancel::Cancel;
-use crate::io::{finish_part, part_path};
+use crate::live::{Loop, Watch};
 
 /// The horizontal field of view of each of the robot's sensors, degrees (360: omnidirectional).
 pub fn sensor_hfovs(robot: &strider_scenario::RobotProfile) -> Vec<f64> {
@@ -149,65 +144,37 @@ pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<Mi
         .context("not a Prágr22 strategy")
 }
 
-/// Drives `mission` on the scenario's world (simulator seeded with `seed`) until it ends or
-/// `cancel` is requested, calling `observe` about once per simulated second; with `mcap`,
-/// records the robot's sensor stream and the mission's snapshots there (see
-/// `strider_log::recorder`) and returns what was written.
+/// Drives `mission` on the scenario's world (simulator seeded with `seed`) until it ends or the
+/// cancellation flag of `watch` is requested, calling `observe` about once per simulated
+/// second; records to the MCAP file of `watch` and publishes on its live view, if any (see
+/// [`Watch::run`]), and returns what was written to the file.
 ///
 /// The recording is written to `<mcap>.part` and renamed to `mcap` once finished (summary and
 /// footer written): also when the mission is interrupted or fails, so that what was recorded
 /// stays readable. A recording that cannot be finished stays `.part`.
-pub fn drive<S: MissionStrategy>(
+pub fn drive<'a, S: MissionStrategy>(
     sc: &Scenario,
     seed: u64,
     mission: &mut Mission<S>,
-    (mcap, cancel): (Option<&Path>, &Cancel),
-    mut observe: impl FnMut(&Mission<S>, &MissionProgress),
+    watch: impl Into<Watch<'a>>,
+    observe: impl FnMut(&Mission<S>, &MissionProgress),
 ) -> Result<Option<WriteSummary>> {
-    cancel.watch(mission);
     let mut sim = Simulator::new(sc, seed)?;
-    let Some(file) = mcap else {
-        mission.run_watched(&mut sim, observe)?;
-        return Ok(None);
-    };
-    let part = part_path(file);
     let names = sc.robot.gaits.iter().map(|g| g.name.clone()).collect();
-    let rec = Rc::new(RefCell::new(Recorder::create(
-        &part,
-        RecorderOptions::new(names),
-    )?));
-    let mut robot = Recording::new(sim, rec.clone());
-    let ran = mission
-        .run_watched(&mut robot, |m, p| {
-            observe(m, p);
-            let layers = rec.borrow().grid_due();
-            rec.borrow_mut().snapshot(&m.snapshot(layers));
-        })
-        .map(|_| ());
-    if ran.is_ok() {
-        rec.borrow_mut().snapshot(&mission.snapshot(true));
-    }
-    drop(robot);
-    let rec = Rc::try_unwrap(rec)
-        .map_err(|_| anyhow::anyhow!("the recorder is still shared"))?
-        .into_inner();
-    let finished = rec
-        .finish()
-        .map_err(anyhow::Error::from)
-        .and_then(|w| finish_part(&part, file).map(|()| w));
-    ran?;
-    Ok(Some(finished?))
+    watch
+        .into()
+        .run(mission, &mut sim, (names, Loop::Explore), observe)
 }
 
 /// Runs a mission of strategy `S` with `params` on the scenario's world (simulator seeded with
-/// `seed`) until it ends or `cancel` is requested, reporting progress about once per simulated
-/// second; with `mcap`, records it there (ROS 2 sensor stream and Foxglove visualisation, see
-/// [`drive`]) and returns what was written too.
-pub fn run_strategy<S: FromParams>(
+/// `seed`) until it ends or the cancellation flag of `watch` is requested, reporting progress
+/// about once per simulated second; records and serves it as `watch` says (ROS 2 sensor stream
+/// and Foxglove visualisation, see [`drive`]) and returns what was written to the MCAP file too.
+pub fn run_strategy<'a, S: FromParams>(
     sc: &Scenario,
     params: S::Params,
     seed: u64,
-    watch: (Option<&Path>, &Cancel),
+    watch: impl Into<Watch<'a>>,
     mut progress: impl FnMut(&MissionProgress),
 ) -> Result<(Mission<S>, Option<WriteSummary>)> {
     let mut mission = S::mission(params)?;
@@ -216,11 +183,11 @@ pub fn run_strategy<S: FromParams>(
 }
 
 /// [`run_strategy`] of a Prágr22 mission, with its log.
-pub fn run_mission(
+pub fn run_mission<'a>(
     sc: &Scenario,
     params: MissionParams,
     seed: u64,
-    watch: (Option<&Path>, &Cancel),
+    watch: impl Into<Watch<'a>>,
     progress: impl FnMut(&MissionProgress),
 ) -> Result<(Mission<TourExplorer>, MissionLog, Option<WriteSummary>)> {
     let (mission, written) = run_strategy::<TourExplorer>(sc, params, seed, watch, progress)?;

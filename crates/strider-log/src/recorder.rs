@@ -1,6 +1,6 @@
-//! Recording a mission to MCAP: the robot's sensor stream as ROS 2 messages (so the file can
-//! be replayed, [`crate::replay`]) and the mission's state with Foxglove's schemas (so a user
-//! can scrub through it in Foxglove).
+//! Recording a mission to MCAP or the live view ([`crate::sink`]): the robot's sensor stream as
+//! ROS 2 messages (so the file can be replayed, [`crate::replay`]) and the mission's state with
+//! Foxglove's schemas (so a user can scrub through it, or watch it, in Foxglove).
 //!
 //! The robot side is captured by [`Recording`], a [`Robot`] adaptor that forwards everything
 //! to the wrapped robot and tees the sensor stream, the gait commands, the commanded paths and
@@ -34,7 +34,8 @@ use crate::ros2::{
     self, Header, MsgType, Odometry, Quaternion, StringMsg, TfMessage, Time, Transform,
     TransformStamped, UInt8Msg, Vector3, seconds_to_nanos,
 };
-use crate::writer::{McapWriter, WriteSummary};
+use crate::sink::{MessageSink, WriteSummary, Writer};
+use crate::writer::McapFile;
 use foxglove::bytes::Bytes;
 use foxglove::messages as fg;
 use std::cell::RefCell;
@@ -123,11 +124,12 @@ impl RecorderOptions {
     }
 }
 
-/// Writes a mission to MCAP. Methods never fail: the first write error is kept and reported by
+/// Writes a mission to a [`MessageSink`]: an MCAP file, the live view or both (see
+/// [`crate::sink`]). Methods never fail: the first write error is kept and reported by
 /// [`Recorder::take_error`] (which [`Recording::advance`] calls every tick) and
 /// [`Recorder::finish`].
 pub struct Recorder {
-    w: McapWriter,
+    w: Writer<Box<dyn MessageSink>>,
     opts: RecorderOptions,
     /// Robot time of the latest control tick, s.
     now: f64,
@@ -192,9 +194,15 @@ fn field(
 }
 
 impl Recorder {
-    /// Creates `path` and writes the recording's metadata.
+    /// Creates the MCAP file `path` and writes the recording's metadata.
     pub fn create(path: &Path, opts: RecorderOptions) -> Result<Self, LogError> {
-        let mut w = McapWriter::create(path)?;
+        Self::new(Box::new(McapFile::create(path)?), opts)
+    }
+
+    /// Records into `sink` (e.g. a [`crate::sink::Fanout`] of an MCAP file and the live view),
+    /// starting with the recording's metadata.
+    pub fn new(sink: Box<dyn MessageSink>, opts: RecorderOptions) -> Result<Self, LogError> {
+        let mut w = Writer::new(sink);
         let mut kv = BTreeMap::new();
         kv.insert("gaits".into(), opts.gait_names.join(","));
         kv.insert("world_frame".into(), opts.topics.world_frame.clone());
@@ -560,7 +568,8 @@ impl Recorder {
             .write_foxglove("/strider/experienced_costs", ns, &msg)
     }
 
-    /// Closes the file, returning what was written (or the first error of the recording).
+    /// Ends the recording (an MCAP file is closed), returning what was written (or the first
+    /// error of the recording).
     pub fn finish(mut self) -> Result<WriteSummary, LogError> {
         self.take_error()?;
         self.w.finish()

@@ -102,11 +102,11 @@ impl EscapeTrial {
 /// Runs `params` on the scenario's world (simulator seeded with `seed`) until it ends or the
 /// cancellation flag of `watch` is requested, recording to its MCAP file if any (see
 /// [`drive`]); `progress` gets the mission about once per simulated second.
-pub fn run_escape(
+pub fn run_escape<'a>(
     sc: &Scenario,
     params: EscapeParams,
     seed: u64,
-    watch: (Option<&std::path::Path>, &crate::cancel::Cancel),
+    watch: impl Into<crate::live::Watch<'a>>,
     mut progress: impl FnMut(&Mission<EscapeMission>),
 ) -> Result<EscapeTrial> {
     let secs = sections(sc);

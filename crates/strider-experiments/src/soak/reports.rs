@@ -68,6 +68,8 @@ fn request(task: &Task) -> RunRequest<'_> {
         time_limit: Some(task.time_limit_s),
         out: Path::new(""),
         mcap: None,
+        live: None,
+        rate: None,
         cancel: &NEVER_CANCELLED,
     }
 }
