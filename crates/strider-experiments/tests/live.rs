@@ -197,14 +197,7 @@ fn a_viewer_subscribed_to_the_live_view_receives_map_grids_and_robot_poses() {
 
     // Stopping the server closes the viewer's connection.
     server.stop();
-    let start = Instant::now();
-    loop {
-        match rx.recv_timeout(PATIENCE.saturating_sub(start.elapsed())) {
-            Ok(Seen::Closed) => break,
-            Ok(Seen::Message(..)) => {}
-            Err(e) => panic!("the viewer's connection was not closed: {e}"),
-        }
-    }
+    wait_for_close(&rx);
     client.join().unwrap();
 }
 
@@ -266,13 +259,18 @@ fn an_interrupt_stops_a_paced_live_mission_and_its_server() {
         assert!(interrupted);
     });
     server.stop();
+    wait_for_close(&rx);
+    client.join().unwrap();
+}
+
+/// Waits (at most `PATIENCE`) until the viewer reports its connection closed; fails otherwise.
+fn wait_for_close(rx: &mpsc::Receiver<Seen>) {
     let start = Instant::now();
     loop {
         match rx.recv_timeout(PATIENCE.saturating_sub(start.elapsed())) {
-            Ok(Seen::Closed) => break,
+            Ok(Seen::Closed) => return,
             Ok(Seen::Message(..)) => {}
             Err(e) => panic!("the viewer's connection was not closed: {e}"),
         }
     }
-    client.join().unwrap();
 }
