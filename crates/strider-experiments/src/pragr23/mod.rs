@@ -7,4 +7,5 @@ mod run;
 pub mod trial;
 pub mod vegetation;
 
+pub(crate) use run::escape_report;
 pub use run::{CellStateSample, EscapeReport, EscapeRun, HapticReport, run};

@@ -10,7 +10,9 @@ use anyhow::Result;
 use serde::Serialize;
 use strider_explore::Mission;
 use strider_explore::escape::force_predictor::describe;
-use strider_explore::escape::{ContactEvent, EscapeMission, EscapeMode, GoalEvent, TimelineSample};
+use strider_explore::escape::{
+    ContactEvent, EscapeLog, EscapeMission, EscapeMode, GoalEvent, TimelineSample,
+};
 use strider_explore::kernel::TrajectorySample;
 use strider_explore::registry::EscapeTable;
 use strider_scenario::Scenario;
@@ -169,15 +171,33 @@ fn report(
     trial: &EscapeTrial,
     wall: Instant,
 ) -> EscapeReport {
-    let (run, esc, log) = (trial.mission.record(), trial.mission.strategy(), &trial.log);
-    let map = trial.mission.body().map();
+    escape_report(
+        MissionId::of(sc, req, mode.name()),
+        table,
+        (&trial.mission, &trial.log),
+        trial.sections.clone(),
+        wall,
+    )
+}
+
+/// The report of a finished escape mission whose `log` and judged `sections` are given (a
+/// trial's, or the soak's judged at the end).
+pub(crate) fn escape_report(
+    id: MissionId,
+    table: &EscapeTable,
+    (mission, log): (&Mission<EscapeMission>, &EscapeLog),
+    sections: Vec<SectionResult>,
+    wall: Instant,
+) -> EscapeReport {
+    let (run, esc) = (mission.record(), mission.strategy());
+    let map = mission.body().map();
     EscapeReport {
-        id: MissionId::of(sc, req, mode.name()),
+        id,
         parameters: strider_explore::registry::typed::to_table(table),
-        explored: Explored::of(&trial.mission),
-        sections_explored: trial.sections_explored(),
+        explored: Explored::of(mission),
+        sections_explored: sections.iter().filter(|s| s.explored).count(),
         section_explored_fraction: SECTION_EXPLORED_FRACTION,
-        sections: trial.sections.clone(),
+        sections,
         explored_area_over_time: log.timeline.iter().map(|s| [s.t, s.explored_m2]).collect(),
         cell_states_over_time: log.timeline.iter().map(CellStateSample::from).collect(),
         contacts: log.contacts.clone(),

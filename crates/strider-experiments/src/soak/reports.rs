@@ -11,7 +11,6 @@ use std::time::Instant;
 
 use serde::Serialize;
 use strider_explore::escape::EscapeMission;
-use strider_explore::escape::force_predictor::describe;
 use strider_explore::kernel::TrajectorySample;
 use strider_explore::rbcm_greedy::RbcmGreedy;
 use strider_explore::registry::{Configured, EscapeTable, RbcmTable, typed};
@@ -26,7 +25,7 @@ use crate::pragr22::report::RunReport;
 use crate::pragr23::trial::{
     SECTION_EXPLORED_FRACTION, SectionResult, section_fractions, sections,
 };
-use crate::pragr23::{CellStateSample, EscapeReport, HapticReport};
+use crate::pragr23::{EscapeReport, escape_report};
 use crate::run::{Explored, MissionId, RunRequest};
 
 /// What a report's counts are checked against.
@@ -171,42 +170,13 @@ pub fn escape(
             }
         })
         .collect();
-    EscapeReport {
-        id: MissionId::of(sc, &request(task), esc.params().mode.name()),
-        parameters: typed::to_table(table),
-        explored: Explored::of(mission),
-        sections_explored: sections.iter().filter(|s| s.explored).count(),
-        section_explored_fraction: SECTION_EXPLORED_FRACTION,
+    escape_report(
+        MissionId::of(sc, &request(task), esc.params().mode.name()),
+        table,
+        (mission, log),
         sections,
-        explored_area_over_time: log.timeline.iter().map(|s| [s.t, s.explored_m2]).collect(),
-        cell_states_over_time: log.timeline.iter().map(CellStateSample::from).collect(),
-        contacts: log.contacts.clone(),
-        goals: log.goals.clone(),
-        pushes: log.pushes,
-        samplings: log.samplings,
-        relearns: log.relearns,
-        haptic_cells: esc.haptic().len(),
-        haptic: esc
-            .haptic()
-            .cells()
-            .iter()
-            .map(|(c, h)| {
-                let p = c.center(map.cell_size());
-                HapticReport {
-                    x: p.x,
-                    y: p.y,
-                    force: h.force,
-                    variance: h.variance,
-                    count: h.count,
-                    descriptor: describe(map, *c, &esc.params().predictor),
-                }
-            })
-            .collect(),
-        predictor_training_set: esc.predictor().len(),
-        mission_wall_s: run.wall_s,
-        wall_time_s: wall.elapsed().as_secs_f64(),
-        trajectory: run.trajectory.clone(),
-    }
+        wall,
+    )
 }
 
 /// The counts of a Prágr23 report that must agree.
