@@ -135,6 +135,21 @@ pub fn checked_time_limit(t: f64) -> Result<f64> {
     Ok(t)
 }
 
+/// Validates `--seed S --seeds N`: N in [1, `max`] and the seeds S, S + 1, …, S + N − 1 all
+/// fit in a u64.
+pub fn check_seed_range(seed: u64, seeds: u64, max: u64) -> Result<()> {
+    if !(1..=max).contains(&seeds) {
+        bail!("--seeds {seeds}: must be an integer from 1 to {max}");
+    }
+    if seed.checked_add(seeds - 1).is_none() {
+        bail!(
+            "--seed {seed} with --seeds {seeds}: the last seed would pass {}",
+            u64::MAX
+        );
+    }
+    Ok(())
+}
+
 /// Mission parameters of a Prágr22 strategy from a scenario: the robot profile, the map
 /// parameters and the strategy's `[strategy.<name>]` section.
 pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<MissionParams> {
@@ -316,4 +331,20 @@ pub fn run_tours_with(
         tours.push((tour.name.clone(), results));
     }
     Ok(tours)
+}
+
+#[cfg(test)]
+mod seed_range_tests {
+    use super::check_seed_range;
+
+    #[test]
+    fn seed_counts_outside_the_range_or_past_u64_max_are_refused() {
+        assert!(check_seed_range(1, 10, 1000).is_ok());
+        assert!(check_seed_range(u64::MAX, 1, 1000).is_ok());
+        let e = check_seed_range(1, 0, 1000).unwrap_err().to_string();
+        assert_eq!(e, "--seeds 0: must be an integer from 1 to 1000");
+        assert!(check_seed_range(1, 1001, 1000).is_err());
+        let e = check_seed_range(u64::MAX - 1, 3, 1000).unwrap_err().to_string();
+        assert!(e.contains("the last seed would pass 18446744073709551615"), "{e}");
+    }
 }

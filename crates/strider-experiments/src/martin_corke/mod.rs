@@ -271,20 +271,7 @@ impl fmt::Display for SeedLine {
 
 /// Runs `strider tours`; returns one line per seed.
 pub fn tours(o: &ToursOptions) -> Result<Vec<SeedLine>> {
-    if !(1..=MAX_SEEDS).contains(&o.seeds) {
-        bail!(
-            "--seeds {}: must be an integer from 1 to {MAX_SEEDS}",
-            o.seeds
-        );
-    }
-    if o.seed.checked_add(o.seeds - 1).is_none() {
-        bail!(
-            "--seed {} with --seeds {}: the last seed would pass {}",
-            o.seed,
-            o.seeds,
-            u64::MAX
-        );
-    }
+    crate::trial::check_seed_range(o.seed, o.seeds, MAX_SEEDS)?;
     let sc = load(&o.scenario, o.world_seed)?;
     let p = tour_params(&sc, o.tours).with_context(|| format!("scenario {}", sc.name))?;
     // Bad waypoints are reported before any simulation.

@@ -193,20 +193,7 @@ fn check(o: &NavigateOptions) -> Result<()> {
     if !(1..=MAX_RUNS).contains(&o.runs) {
         bail!("--runs {}: must be an integer from 1 to {MAX_RUNS}", o.runs);
     }
-    if !(1..=MAX_SEEDS).contains(&o.seeds) {
-        bail!(
-            "--seeds {}: must be an integer from 1 to {MAX_SEEDS}",
-            o.seeds
-        );
-    }
-    if o.seed.checked_add(o.seeds - 1).is_none() {
-        bail!(
-            "--seed {} with --seeds {}: the last seed would pass {}",
-            o.seed,
-            o.seeds,
-            u64::MAX
-        );
-    }
+    crate::trial::check_seed_range(o.seed, o.seeds, MAX_SEEDS)?;
     if !(o.lambda.is_finite() && (0.0..=MAX_LAMBDA).contains(&o.lambda)) {
         bail!(
             "--lambda {}: must be a finite number from 0 to {MAX_LAMBDA}",
