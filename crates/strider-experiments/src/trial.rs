@@ -344,7 +344,12 @@ mod seed_range_tests {
         let e = check_seed_range(1, 0, 1000).unwrap_err().to_string();
         assert_eq!(e, "--seeds 0: must be an integer from 1 to 1000");
         assert!(check_seed_range(1, 1001, 1000).is_err());
-        let e = check_seed_range(u64::MAX - 1, 3, 1000).unwrap_err().to_string();
-        assert!(e.contains("the last seed would pass 18446744073709551615"), "{e}");
+        let e = check_seed_range(u64::MAX - 1, 3, 1000)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("the last seed would pass 18446744073709551615"),
+            "{e}"
+        );
     }
 }
