@@ -1,32 +1,98 @@
-//! A dense field of terrain descriptors over a rectangle of the map lattice.
+//! A field of terrain descriptors over a rectangle of the map lattice.
 //!
 //! The learners are generic over the descriptor: the 9-bin colour histogram ta(ν) of Prágr22
 //! §4.2, the 5-D shape + Lab descriptor of Prágr19 Eq. 10, or anything else with a fixed
-//! dimension. The map crate computes them as `Raster<Option<[f32; N]>>`; this type flattens them
-//! into one `f64` buffer (what the GP works on) and a "described" mask, and refuses non-finite
-//! values so nothing downstream ever sees a NaN.
+//! dimension. The map crate computes them as `Raster<Option<[f32; N]>>`; this type keeps them
+//! as `f64` (what the GP works on) and refuses non-finite values so nothing downstream ever sees
+//! a NaN.
+//!
+//! **Sparse storage.** The rectangle is the map's known bounds, and on a real building most of
+//! it is never seen (a laser maps corridors: 45k described cells in a bounding box of 557k on
+//! the ACES3 log). So only described cells hold values; a slot index per cell of the *storage
+//! rectangle* finds them, and the described cells are kept in row-major order for the
+//! learners that draw from them. The storage rectangle is the rectangle rounded out to
+//! multiples of [`STORAGE_ALIGN`] cells: as the known bounds grow cell by cell, it changes
+//! only when they cross an alignment line, so per-cell buffers indexed by it (the cost model's
+//! class rasters) survive from one learning update to the next.
+//!
+//! **Incremental refresh.** [`DescriptorField::refresh`] recomputes only the descriptors a map
+//! change can have touched: the changed blocks grown by the descriptor's reach, and the cells
+//! the rectangle gained. A descriptor depends only on the map around its cell, so the result is
+//! the field a full computation gives, value for value.
 
 use strider_core::{Cell, CellRect};
+use strider_map::ElevationMap;
 use strider_map::descriptors::Raster;
+use strider_map::rect;
 
-/// Descriptors over `rect`: `dim` values per cell, row-major like [`CellRect::index`].
-#[derive(Clone, Debug, PartialEq)]
+/// Alignment of the storage rectangle, in cells.
+pub const STORAGE_ALIGN: i64 = 64;
+
+const NONE: u32 = u32::MAX;
+
+/// Descriptors over `rect`, `dim` values per described cell.
+#[derive(Clone, Debug)]
 pub struct DescriptorField {
     rect: CellRect,
+    store: CellRect,
     dim: usize,
+    /// Per cell of `store`: the slot of its descriptor in `values`, or [`NONE`].
+    slot: Vec<u32>,
+    /// `dim` values per slot.
     values: Vec<f64>,
-    described: Vec<bool>,
+    /// Slots whose cell lost its descriptor, for reuse.
+    free: Vec<u32>,
+    /// Storage indices of the described cells, ascending (row-major).
+    order: Vec<u32>,
     rejected: usize,
+}
+
+impl PartialEq for DescriptorField {
+    /// Equal rectangles, dimensions, rejection counts and the same descriptor at every cell
+    /// (however the slots are laid out).
+    fn eq(&self, other: &Self) -> bool {
+        self.rect == other.rect
+            && self.dim == other.dim
+            && self.rejected == other.rejected
+            && self.order.len() == other.order.len()
+            && self.described().zip(other.described()).all(|(a, b)| a == b)
+    }
+}
+
+/// The storage rectangle of `r`: `r` rounded out to multiples of [`STORAGE_ALIGN`] cells
+/// (clamped to the lattice), empty for an empty `r`.
+pub fn storage_rect(r: CellRect) -> CellRect {
+    if r.is_empty() {
+        return r;
+    }
+    let a = STORAGE_ALIGN;
+    let lo = |v: i32| (v as i64).div_euclid(a) * a;
+    let hi = |v: i64| ((v + a).div_euclid(a) * a - 1).min(i32::MAX as i64);
+    let (i0, j0) = (
+        lo(r.min.i).max(i32::MIN as i64),
+        lo(r.min.j).max(i32::MIN as i64),
+    );
+    let i1 = hi(r.min.i as i64 + r.width as i64 - 1);
+    let j1 = hi(r.min.j as i64 + r.height as i64 - 1);
+    CellRect::new(
+        Cell::new(i0 as i32, j0 as i32),
+        (i1 - i0 + 1) as u32,
+        (j1 - j0 + 1) as u32,
+    )
 }
 
 impl DescriptorField {
     /// An empty field (no cell described) of dimension `dim` over `rect`.
     pub fn empty(rect: CellRect, dim: usize) -> Self {
+        let store = storage_rect(rect);
         Self {
             rect,
+            store,
             dim,
-            values: vec![0.0; rect.len() * dim],
-            described: vec![false; rect.len()],
+            slot: vec![NONE; store.len()],
+            values: Vec::new(),
+            free: Vec::new(),
+            order: Vec::new(),
             rejected: 0,
         }
     }
@@ -35,45 +101,192 @@ impl DescriptorField {
     /// treated as absent and counted in [`DescriptorField::rejected`].
     pub fn from_raster<const N: usize>(r: &Raster<Option<[f32; N]>>) -> Self {
         let mut f = Self::empty(r.rect, N);
-        for (k, v) in r.values.iter().enumerate() {
-            if let Some(d) = v {
-                let row: [f64; N] = d.map(f64::from);
-                f.set_index(k, &row);
-            }
-        }
+        f.write_raster(r);
         f
     }
 
-    /// Sets the descriptor of the `k`-th cell of the rectangle; a non-finite one is rejected,
-    /// counted, and leaves the cell undescribed.
-    fn set_index(&mut self, k: usize, d: &[f64]) {
+    /// Brings the field up to date with `map` over `rect` (the map's known bounds):
+    /// recomputes, with `compute`, the descriptors within `reach` cells of the map's
+    /// `changed` rectangles and those of the cells `rect` gained, and drops the cells it
+    /// lost. `compute(map, r)` must give every cell of `r` its descriptor from the map alone,
+    /// `reach` being how far a cell's descriptor looks. A field of another dimension is
+    /// rebuilt from scratch.
+    pub fn refresh<const N: usize>(
+        &mut self,
+        map: &ElevationMap,
+        rect: CellRect,
+        changed: &[CellRect],
+        reach: u32,
+        compute: impl Fn(&ElevationMap, CellRect) -> Raster<Option<[f32; N]>>,
+    ) {
+        if self.dim != N {
+            *self = Self::empty(CellRect::new(rect.min, 0, 0), N);
+        }
+        let old = self.rect;
+        self.resize(rect);
+        let mut added = Vec::new();
+        for region in stale_regions(old, rect, changed, reach) {
+            self.write_cells(&compute(map, region), &mut added);
+        }
+        self.merge_order(added);
+    }
+
+    /// Moves the field to `rect`: cells outside it lose their descriptor; the storage is laid
+    /// out again only when the storage rectangle changes.
+    fn resize(&mut self, rect: CellRect) {
+        let store = storage_rect(rect);
+        if store != self.store {
+            let mut slot = vec![NONE; store.len()];
+            let mut order = Vec::with_capacity(self.order.len());
+            for &k in &self.order {
+                let c = self.store.cell(k as usize);
+                let s = self.slot[k as usize];
+                match store.index(c) {
+                    Some(n) => {
+                        slot[n] = s;
+                        order.push(n as u32);
+                    }
+                    None => self.free.push(s),
+                }
+            }
+            (self.slot, self.order, self.store) = (slot, order, store);
+        }
+        if !self
+            .order
+            .iter()
+            .all(|&k| rect.contains(store.cell(k as usize)))
+        {
+            let gone: Vec<u32> = self
+                .order
+                .iter()
+                .copied()
+                .filter(|&k| !rect.contains(store.cell(k as usize)))
+                .collect();
+            for k in gone {
+                self.clear_stored(k as usize);
+            }
+        }
+        self.rect = rect;
+    }
+
+    /// Writes every cell of `r` that lies in the rectangle into the field.
+    fn write_raster<const N: usize>(&mut self, r: &Raster<Option<[f32; N]>>) {
+        let mut added = Vec::new();
+        self.write_cells(r, &mut added);
+        self.merge_order(added);
+    }
+
+    /// [`DescriptorField::write_raster`] without the ordering: the storage indices of the
+    /// newly described cells are appended to `added`.
+    fn write_cells<const N: usize>(&mut self, r: &Raster<Option<[f32; N]>>, added: &mut Vec<u32>) {
+        for (k, v) in r.values.iter().enumerate() {
+            let Some(n) = self.store.index(r.rect.cell(k)).filter(|_| {
+                // Cells outside the rectangle are never described.
+                self.rect.contains(r.rect.cell(k))
+            }) else {
+                continue;
+            };
+            match v {
+                Some(d) => {
+                    let row: [f64; N] = d.map(f64::from);
+                    if self.store_row(n, &row) {
+                        added.push(n as u32);
+                    }
+                }
+                None => self.clear_stored(n),
+            }
+        }
+    }
+
+    /// Stores the descriptor of storage cell `n`; a non-finite one is rejected, counted, and
+    /// leaves the cell undescribed. True when the cell was not described before.
+    fn store_row(&mut self, n: usize, d: &[f64]) -> bool {
         if d.len() != self.dim || d.iter().any(|x| !x.is_finite()) {
             self.rejected += 1;
-            self.described[k] = false;
+            self.clear_stored(n);
+            return false;
+        }
+        let dim = self.dim;
+        if self.slot[n] != NONE {
+            let s = self.slot[n] as usize;
+            self.values[s * dim..(s + 1) * dim].copy_from_slice(d);
+            return false;
+        }
+        let s = match self.free.pop() {
+            Some(s) => {
+                let s = s as usize;
+                self.values[s * dim..(s + 1) * dim].copy_from_slice(d);
+                s
+            }
+            None => {
+                self.values.extend_from_slice(d);
+                self.values.len() / dim.max(1) - 1
+            }
+        };
+        self.slot[n] = s as u32;
+        true
+    }
+
+    /// Removes the descriptor of storage cell `n`, if any.
+    fn clear_stored(&mut self, n: usize) {
+        let s = std::mem::replace(&mut self.slot[n], NONE);
+        if s != NONE {
+            self.free.push(s);
+            if let Ok(p) = self.order.binary_search(&(n as u32)) {
+                self.order.remove(p);
+            }
+        }
+    }
+
+    /// Merges newly described storage cells into the row-major order.
+    fn merge_order(&mut self, mut added: Vec<u32>) {
+        if added.is_empty() {
             return;
         }
-        self.values[k * self.dim..(k + 1) * self.dim].copy_from_slice(d);
-        self.described[k] = true;
+        // A cell described in one region and cleared in a later one is not described.
+        added.retain(|&n| self.slot[n as usize] != NONE);
+        added.sort_unstable();
+        added.dedup();
+        let old = std::mem::take(&mut self.order);
+        let mut out = Vec::with_capacity(old.len() + added.len());
+        let (mut i, mut j) = (0, 0);
+        while i < old.len() && j < added.len() {
+            if old[i] <= added[j] {
+                out.push(old[i]);
+                i += 1;
+            } else {
+                out.push(added[j]);
+                j += 1;
+            }
+        }
+        out.extend_from_slice(&old[i..]);
+        out.extend_from_slice(&added[j..]);
+        out.dedup();
+        self.order = out;
     }
 
     /// Sets the descriptor of cell `c`. Returns `false` (and counts a rejection) when `c` is
     /// outside the rectangle, `d` has the wrong length or a non-finite component.
     pub fn set(&mut self, c: Cell, d: &[f64]) -> bool {
-        match self.rect.index(c) {
-            Some(k) => {
-                self.set_index(k, d);
-                self.described[k]
-            }
-            None => {
-                self.rejected += 1;
-                false
-            }
+        let Some(n) = self.store.index(c).filter(|_| self.rect.contains(c)) else {
+            self.rejected += 1;
+            return false;
+        };
+        if self.store_row(n, d) {
+            self.merge_order(vec![n as u32]);
         }
+        self.slot[n] != NONE
     }
 
     /// The rectangle covered.
     pub fn rect(&self) -> CellRect {
         self.rect
+    }
+
+    /// The storage rectangle ([`storage_rect`] of the rectangle): the lattice of the indices
+    /// [`DescriptorField::described`] and [`DescriptorField::get_stored`] use.
+    pub fn storage(&self) -> CellRect {
+        self.store
     }
 
     /// Descriptor dimension.
@@ -83,22 +296,31 @@ impl DescriptorField {
 
     /// The descriptor of `c`, `None` when outside the rectangle or not described.
     pub fn get(&self, c: Cell) -> Option<&[f64]> {
-        let k = self.rect.index(c)?;
-        self.get_index(k)
+        self.get_stored(self.store.index(c)?)
     }
 
-    /// The descriptor of the `k`-th cell of the rectangle, if described.
-    pub fn get_index(&self, k: usize) -> Option<&[f64]> {
-        if self.described[k] {
-            Some(&self.values[k * self.dim..(k + 1) * self.dim])
-        } else {
-            None
-        }
+    /// The descriptor of the cell with storage index `n`, if described.
+    pub fn get_stored(&self, n: usize) -> Option<&[f64]> {
+        let s = *self.slot.get(n)?;
+        (s != NONE).then(|| &self.values[s as usize * self.dim..(s as usize + 1) * self.dim])
+    }
+
+    /// The described cells as (storage index, descriptor), in row-major order.
+    pub fn described(&self) -> impl Iterator<Item = (usize, &[f64])> + '_ {
+        self.order.iter().map(move |&n| {
+            let s = self.slot[n as usize] as usize;
+            (n as usize, &self.values[s * self.dim..(s + 1) * self.dim])
+        })
+    }
+
+    /// Storage indices of the described cells, ascending.
+    pub fn described_indices(&self) -> &[u32] {
+        &self.order
     }
 
     /// Number of described cells.
     pub fn described_count(&self) -> usize {
-        self.described.iter().filter(|&&d| d).count()
+        self.order.len()
     }
 
     /// Descriptors refused because of a non-finite component, wrong length or position.
@@ -107,30 +329,48 @@ impl DescriptorField {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn from_raster_skips_absent_and_non_finite() {
-        let rect = CellRect::new(Cell::new(-1, -1), 2, 2);
-        let r = Raster {
-            rect,
-            values: vec![
-                Some([1.0, 2.0]),
-                None,
-                Some([f32::NAN, 0.0]),
-                Some([0.5, 0.5]),
-            ],
-        };
-        let f = DescriptorField::from_raster(&r);
-        assert_eq!(f.dim(), 2);
-        assert_eq!(f.get(Cell::new(-1, -1)), Some(&[1.0, 2.0][..]));
-        assert_eq!(f.get(Cell::new(0, -1)), None);
-        assert_eq!(f.get(Cell::new(-1, 0)), None);
-        assert_eq!(f.get(Cell::new(0, 0)), Some(&[0.5, 0.5][..]));
-        assert_eq!(f.described_count(), 2);
-        assert_eq!(f.rejected(), 1);
-        assert_eq!(f.get(Cell::new(5, 5)), None);
+/// The parts of `rect` whose descriptors may differ from the field's over `old`: each changed
+/// rectangle grown by `reach`, and the cells of `rect` outside `old` (cut into at most four
+/// bands), all clipped to `rect`.
+fn stale_regions(old: CellRect, rect: CellRect, changed: &[CellRect], reach: u32) -> Vec<CellRect> {
+    let mut out: Vec<CellRect> = changed
+        .iter()
+        .filter_map(|&r| rect::intersection(rect::expand(r, reach), rect))
+        .collect();
+    match rect::intersection(old, rect) {
+        None => out = vec![rect],
+        Some(kept) if kept != rect => out.extend(bands_outside(rect, kept)),
+        Some(_) => {}
     }
+    out.retain(|r| !r.is_empty());
+    out
 }
+
+/// `outer` minus `inner` (which lies inside it) as up to four rectangles: full-width bands
+/// below and above `inner`, and the parts left and right of it.
+fn bands_outside(outer: CellRect, inner: CellRect) -> Vec<CellRect> {
+    let (oi1, oj1) = rect::max_corner(outer);
+    let (ii1, ij1) = rect::max_corner(inner);
+    let mut out = Vec::new();
+    let mut push = |i0: i32, j0: i32, i1: i32, j1: i32| {
+        if i0 <= i1 && j0 <= j1 {
+            out.push(rect::from_corners(Cell::new(i0, j0), Cell::new(i1, j1)));
+        }
+    };
+    if inner.min.j > outer.min.j {
+        push(outer.min.i, outer.min.j, oi1, inner.min.j - 1);
+    }
+    if ij1 < oj1 {
+        push(outer.min.i, ij1 + 1, oi1, oj1);
+    }
+    if inner.min.i > outer.min.i {
+        push(outer.min.i, inner.min.j, inner.min.i - 1, ij1);
+    }
+    if ii1 < oi1 {
+        push(ii1 + 1, inner.min.j, oi1, ij1);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,8 +1,10 @@
 //! Erosion and dilation of terrain-class maps (Prágr22 appendix Eq. 25–26, Alg. 7 line 9 and
 //! Alg. 10 line 2; decision 18).
 //!
-//! A class map is a dense row-major [`Raster`] of [`TerrainCell`] over a `CellRect`. Three
-//! states keep "never described" apart from "eroded":
+//! A class map is a dense row-major [`Raster`] of [`TerrainCell`] over a `CellRect`; the
+//! `_in_place` forms work on a row-major slice and visit only a given support (the described
+//! cells), so that their cost follows the described cells rather than the map. Three states
+//! keep "never described" apart from "eroded":
 //!
 //! * [`TerrainCell::Unknown`] — the cell has no descriptor (Alg. 7 assigns classes only to
 //!   described cells). Neither operation ever changes it.
@@ -102,7 +104,34 @@ pub fn erode(
     raster: &Raster<TerrainCell>,
     steps: usize,
 ) -> Result<Raster<TerrainCell>, MorphologyError> {
-    synchronous_steps(raster, steps, |cur, w, h, x, y| {
+    check(raster)?;
+    let mut out = raster.clone();
+    let support = known_cells(&out.values);
+    let w = out.rect.width as usize;
+    erode_in_place(&mut out.values, w, &support, steps);
+    Ok(out)
+}
+
+/// `n_steps` dilation steps of Eq. 26 with a (2·`n_size` + 1)² window.
+pub fn dilate(
+    raster: &Raster<TerrainCell>,
+    n_size: usize,
+    n_steps: usize,
+) -> Result<Raster<TerrainCell>, MorphologyError> {
+    check(raster)?;
+    let mut out = raster.clone();
+    let support = known_cells(&out.values);
+    let w = out.rect.width as usize;
+    dilate_in_place(&mut out.values, w, &support, n_size, n_steps);
+    Ok(out)
+}
+
+/// [`erode`] in place on a row-major class map of width `w`, visiting only the cells listed in
+/// `support`: every cell that is not [`TerrainCell::Unknown`] must be listed (the others can
+/// be, and stay unknown). The work is proportional to the support, not to the map, which is
+/// what a sparse map (a building seen by a laser) needs.
+pub fn erode_in_place(values: &mut [TerrainCell], w: usize, support: &[u32], steps: usize) {
+    synchronous_steps(values, w, support, steps, |cur, w, h, x, y| {
         let TerrainCell::Class(c) = cur[y * w + x] else {
             return None;
         };
@@ -118,16 +147,16 @@ pub fn erode(
     })
 }
 
-/// `n_steps` dilation steps of Eq. 26 with window half-size `n_size` (see the module
-/// documentation): only eroded cells change.
-pub fn dilate(
-    raster: &Raster<TerrainCell>,
+/// [`dilate`] in place, visiting only `support` (as for [`erode_in_place`]).
+pub fn dilate_in_place(
+    values: &mut [TerrainCell],
+    w: usize,
+    support: &[u32],
     n_size: usize,
     n_steps: usize,
-) -> Result<Raster<TerrainCell>, MorphologyError> {
-    // Votes of one window: (class, count), reused across cells.
+) {
     let mut votes: Vec<(ClassId, u32)> = Vec::new();
-    synchronous_steps(raster, n_steps, |cur, w, h, x, y| {
+    synchronous_steps(values, w, support, n_steps, |cur, w, h, x, y| {
         if cur[y * w + x] != TerrainCell::Eroded {
             return None;
         }
@@ -144,7 +173,6 @@ pub fn dilate(
                 }
             }
         }
-        // Most votes; ties to the lowest id.
         votes
             .iter()
             .copied()
@@ -153,41 +181,47 @@ pub fn dilate(
     })
 }
 
-/// Up to `steps` synchronous passes over the raster: `rule(map, width, height, x, y)` gives the
-/// new value of cell (x, y) from the previous pass's map only, or `None` to keep it. Stops early
-/// after a pass that changed nothing.
+/// Row-major indices of the cells that are not unknown.
+fn known_cells(values: &[TerrainCell]) -> Vec<u32> {
+    (0..values.len() as u32)
+        .filter(|&k| values[k as usize] != TerrainCell::Unknown)
+        .collect()
+}
+
+/// Up to `steps` synchronous passes over the `support` cells of a map of width `w`:
+/// `rule(map, width, height, x, y)` gives the new value of cell (x, y) from the previous pass's
+/// map only, or `None` to keep it (it returns `Some` only for a real change). Each pass
+/// collects its changes before writing them; stops early after a pass that changed nothing.
 fn synchronous_steps(
-    raster: &Raster<TerrainCell>,
+    values: &mut [TerrainCell],
+    w: usize,
+    support: &[u32],
     steps: usize,
     mut rule: impl FnMut(&[TerrainCell], usize, usize, usize, usize) -> Option<TerrainCell>,
-) -> Result<Raster<TerrainCell>, MorphologyError> {
-    check(raster)?;
-    let (w, h) = (raster.rect.width as usize, raster.rect.height as usize);
-    let mut cur = raster.values.clone();
-    let mut next = cur.clone();
+) {
+    if w == 0 {
+        return;
+    }
+    let h = values.len() / w;
+    let mut changes: Vec<(usize, TerrainCell)> = Vec::new();
     for _ in 0..steps {
-        let mut changed = false;
-        for y in 0..h {
-            for x in 0..w {
-                let k = y * w + x;
-                next[k] = match rule(&cur, w, h, x, y) {
-                    Some(v) => {
-                        changed = true;
-                        v
-                    }
-                    None => cur[k],
-                };
+        changes.clear();
+        for &k in support {
+            let k = k as usize;
+            if k >= values.len() {
+                continue;
+            }
+            if let Some(v) = rule(values, w, h, k % w, k / w) {
+                changes.push((k, v));
             }
         }
-        std::mem::swap(&mut cur, &mut next);
-        if !changed {
+        if changes.is_empty() {
             break;
         }
+        for &(k, v) in &changes {
+            values[k] = v;
+        }
     }
-    Ok(Raster {
-        rect: raster.rect,
-        values: cur,
-    })
 }
 
 #[cfg(test)]

@@ -21,7 +21,7 @@ use nalgebra::{Matrix3, SymmetricEigen};
 use rayon::prelude::*;
 use strider_core::color::{PrototypeQuantizer, rgb_to_lab};
 use strider_core::grid::disc_offsets;
-use strider_core::{Cell, CellRect};
+use strider_core::{Cell, CellRect, Rgb8};
 
 /// Bins of ta(ν) (Prágr22, nine prototypes).
 pub const TA_BINS: usize = 9;
@@ -127,13 +127,8 @@ fn histograms<const N: usize>(
     out: CellRect,
     r: f64,
 ) -> Raster<Option<[f32; N]>> {
-    let view = View::new(map, out, r);
-    let q = PrototypeQuantizer::new(N);
-    let bins: Vec<u8> = view
-        .color
-        .par_iter()
-        .map(|c| c.map_or(u8::MAX, |c| q.nearest(c) as u8))
-        .collect();
+    let vrect = rect::expand(out, disc_reach(r, map.cell_size()));
+    let bins = colour_bins(map, vrect, &PrototypeQuantizer::new(N));
     let disc = disc_offsets(r, map.cell_size());
     // The disc as row spans dj ↦ [−a, a] (it is symmetric and convex along rows).
     let reach = disc.iter().map(|&(_, dj)| dj.abs()).max().unwrap_or(0);
@@ -142,7 +137,7 @@ fn histograms<const N: usize>(
         let a = &mut half[(dj + reach) as usize];
         *a = (*a).max(di);
     }
-    let vw = view.rect.width as isize;
+    let vw = vrect.width as isize;
     let (ow, oh) = (out.width as usize, out.height as usize);
     let mut values = vec![None; out.len()];
     if ow == 0 {
@@ -150,7 +145,7 @@ fn histograms<const N: usize>(
     }
     values.par_chunks_mut(ow).zip(0..oh).for_each(|(row, j)| {
         let first = out.cell(j * ow);
-        let base = view.rect.index(first).unwrap_or(0) as isize;
+        let base = vrect.index(first).unwrap_or(0) as isize;
         let at = |i: isize, dj: i32| bins[(base + dj as isize * vw + i) as usize];
         let mut counts = DiscCounts::<N> {
             bins: [0; N],
@@ -174,6 +169,31 @@ fn histograms<const N: usize>(
     Raster { rect: out, values }
 }
 
+/// The prototype bin of every cell of `rect`, `u8::MAX` where unobserved. Neighbouring cells
+/// often share a colour (a surface, or the one colour given to a laser's points), so each
+/// block remembers its last colour and skips the Lab conversion for a repeat.
+fn colour_bins(map: &ElevationMap, rect: CellRect, q: &PrototypeQuantizer) -> Vec<u8> {
+    let colours = map.color_raster(rect);
+    let mut bins = vec![u8::MAX; colours.len()];
+    bins.par_chunks_mut(4096)
+        .zip(colours.par_chunks(4096))
+        .for_each(|(bins, colours)| {
+            let mut last: Option<(Rgb8, u8)> = None;
+            for (b, c) in bins.iter_mut().zip(colours) {
+                let Some(c) = *c else { continue };
+                *b = match last {
+                    Some((lc, lb)) if lc == c => lb,
+                    _ => {
+                        let nb = q.nearest(c) as u8;
+                        last = Some((c, nb));
+                        nb
+                    }
+                };
+            }
+        });
+    bins
+}
+
 /// ta(ν) (Prágr22 §4.2) for every cell of `rect`: 9-bin relative colour histogram within r_hist.
 pub fn color_histograms(
     map: &ElevationMap,
@@ -181,6 +201,12 @@ pub fn color_histograms(
     r_hist: f64,
 ) -> Raster<Option<[f32; TA_BINS]>> {
     histograms::<TA_BINS>(map, rect, r_hist)
+}
+
+/// How far, in cells, a histogram of radius `r_hist` reaches: a change of one cell can change
+/// the histograms of the cells up to this many cells away (in rows or columns).
+pub fn histogram_reach(r_hist: f64, d: f64) -> u32 {
+    disc_reach(r_hist, d)
 }
 
 /// The Prágr23 8-bin colour histogram for every cell of `rect`.

@@ -5,6 +5,7 @@
 //!
 //! * [`tiles`]: lazily allocated square tiles, one [`TiledLayer`] per layer (decision 1).
 //! * [`map`]: [`ElevationMap`], its layers and dense rasters for rendering.
+//! * [`changes`]: which blocks of cells changed since a revision, for incremental consumers.
 //! * [`fusion`]: per-cell 1-D Kalman fusion of RGB-D scans with a Mahalanobis gate and the
 //!   mixed-cell rule (Prágr22 Alg. 2 line 2, decision 2–3).
 //! * [`passability`]: roughness and passability, Prágr22 Eq. 7–9, and configuration-space
@@ -23,6 +24,7 @@
 //! [`strider_core::PointCloud`]s and answers queries on cells of the global lattice.
 
 pub mod c1_descriptors;
+pub mod changes;
 pub mod clustering;
 pub mod descriptors;
 pub mod frontiers;

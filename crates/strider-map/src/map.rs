@@ -6,6 +6,7 @@
 //! This file holds the storage and its accessors only: scans are fused into it by the `fusion`
 //! module, and the `passability` module keeps π and admissibility up to date.
 
+use crate::changes::ChangeLog;
 use crate::fusion::scratch::FusionScratch;
 use crate::params::{MapParams, ParamError};
 use crate::passability::rule::Passability;
@@ -37,6 +38,10 @@ pub struct ElevationMap {
     pub(crate) observed_count: usize,
     /// Cells whose elevation changed since the last passability update (bounding rectangle).
     pub(crate) dirty: Option<CellRect>,
+    /// Revision stamps of the blocks whose cells changed, for incremental consumers.
+    pub(crate) changes: ChangeLog,
+    /// The revision of `changes` that passability and admissibility are up to date with.
+    pub(crate) passability_revision: u64,
     /// Number of scans fused.
     pub(crate) scans: u64,
     pub(crate) scratch: FusionScratch,
@@ -66,6 +71,8 @@ impl ElevationMap {
             known_bounds: None,
             observed_count: 0,
             dirty: None,
+            changes: ChangeLog::default(),
+            passability_revision: 0,
             scans: 0,
             scratch: FusionScratch::default(),
         }
@@ -184,6 +191,12 @@ impl ElevationMap {
         self.dirty.is_some()
     }
 
+    /// Where cells changed (elevation, colour or observed flag), by revision: lets derived
+    /// layers be refreshed in the changed region only.
+    pub fn changes(&self) -> &ChangeLog {
+        &self.changes
+    }
+
     /// The elevation-mean layer (valid where [`ElevationMap::observed_layer`] is true).
     pub fn elevation_layer(&self) -> &TiledLayer<f32> {
         &self.elevation
@@ -222,6 +235,8 @@ impl ElevationMap {
         }
         self.known_bounds = Some(rect::include(self.known_bounds, c));
         self.dirty = Some(rect::include(self.dirty, c));
+        self.changes.begin();
+        self.changes.mark(c);
     }
 
     /// Elevation over `rect` as a dense row-major raster, NaN where unobserved.

@@ -137,6 +137,8 @@ pub struct TourExplorer {
     signal: InverseVelocityCost,
     fallback: FallbackTimer,
     desc: DescriptorField,
+    /// The map revision the descriptors are up to date with.
+    desc_revision: u64,
     spatial: Vec<SpatialGoal>,
     cost_goals: Vec<(u8, CostGoal)>,
     dij: Dijkstra,
@@ -206,6 +208,7 @@ impl TourExplorer {
             signal,
             fallback,
             desc: DescriptorField::empty(CellRect::new(Cell::new(0, 0), 0, 0), TA_BINS),
+            desc_revision: 0,
             spatial: Vec::new(),
             cost_goals: Vec::new(),
             dij: Dijkstra::new(),

@@ -6,9 +6,8 @@ use crate::kernel::{Body, drop_visited};
 use crate::timing::ms_since;
 use rayon::prelude::*;
 use std::time::Instant;
-use strider_learn::descriptor_field::DescriptorField;
 use strider_map::cluster_information;
-use strider_map::descriptors::color_histograms;
+use strider_map::descriptors::{color_histograms, histogram_reach};
 use strider_map::reachability::Reachability;
 
 impl TourExplorer {
@@ -62,8 +61,15 @@ impl TourExplorer {
         let Some(rect) = map.known_bounds() else {
             return;
         };
-        let raster = color_histograms(map, rect, map.params().r_hist);
-        self.desc = DescriptorField::from_raster(&raster);
+        // Only the histograms the map's changes can have touched are recomputed; the field
+        // equals a full computation over `rect`.
+        let r_hist = map.params().r_hist;
+        let changed = map.changes().changed_since(self.desc_revision);
+        let reach = histogram_reach(r_hist, map.cell_size());
+        self.desc.refresh(map, rect, &changed, reach, |m, r| {
+            color_histograms(m, r, r_hist)
+        });
+        self.desc_revision = map.changes().revision();
         self.cost_goals.clear();
         // The gaits' models are independent: update them side by side.
         let desc = &self.desc;

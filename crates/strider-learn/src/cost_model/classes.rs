@@ -3,7 +3,6 @@
 //! and dilation to the planning assignment.
 
 use rustc_hash::FxHashMap as HashMap;
-use strider_map::descriptors::Raster;
 
 use super::{CostModelError, GaitCostModel};
 use crate::descriptor_field::DescriptorField;
@@ -40,24 +39,18 @@ impl GaitCostModel {
     /// class T*(ν) (Eq. 17) and erodes that into the learning assignment T (Eq. 25).
     pub(super) fn assign_classes(&mut self, desc: &DescriptorField) -> Result<(), CostModelError> {
         self.cluster(desc)?;
-        let mut star = vec![TerrainCell::Unknown; self.rect.len()];
-        for (k, s) in star.iter_mut().enumerate() {
-            if let Some(x) = desc.get_index(k) {
-                *s = self
-                    .igng
-                    .classify(x)
-                    .map_or(TerrainCell::Eroded, TerrainCell::Class);
-            }
+        for (k, x) in desc.described() {
+            self.learn_class[k] = self
+                .igng
+                .classify(x)
+                .map_or(TerrainCell::Eroded, TerrainCell::Class);
         }
-        self.learn_class = morphology::erode(
-            &Raster {
-                rect: self.rect,
-                values: star,
-            },
+        morphology::erode_in_place(
+            &mut self.learn_class,
+            self.store.width as usize,
+            &self.support,
             self.params.erode_steps,
-        )
-        .map_err(|e| CostModelError::Params(e.to_string()))?
-        .values;
+        );
         Ok(())
     }
 
@@ -65,10 +58,8 @@ impl GaitCostModel {
     /// (by the IGNG's seeded generator) from the described cells.
     fn cluster(&mut self, desc: &DescriptorField) -> Result<(), CostModelError> {
         let mut rows = Vec::with_capacity(desc.described_count() * self.dim);
-        for k in 0..desc.rect().len() {
-            if let Some(x) = desc.get_index(k) {
-                rows.extend_from_slice(x);
-            }
+        for (_, x) in desc.described() {
+            rows.extend_from_slice(x);
         }
         if rows.is_empty() {
             return Ok(());
@@ -109,14 +100,18 @@ impl GaitCostModel {
     fn class_table(&self, desc: &DescriptorField) -> Vec<ClassInfo> {
         // Per class: eroded cells, learning cells, and the descriptors of its cells.
         let mut cells: HashMap<ClassId, (usize, usize, Vec<f64>)> = HashMap::default();
-        for (k, s) in self.learn_class.iter().enumerate() {
-            if let TerrainCell::Class(t) = *s {
+        for (k, x) in desc.described() {
+            if let TerrainCell::Class(t) = self.learn_class[k] {
                 let e = cells.entry(t).or_default();
                 e.0 += 1;
-                e.1 += self.learn_index.contains_key(&self.rect.cell(k)) as usize;
-                if let Some(x) = desc.get_index(k) {
-                    e.2.extend_from_slice(x);
-                }
+                e.2.extend_from_slice(x);
+            }
+        }
+        for c in &self.learn_cells {
+            if let Some(TerrainCell::Class(t)) = self.store.index(*c).map(|k| self.learn_class[k])
+                && let Some(e) = cells.get_mut(&t)
+            {
+                e.1 += 1;
             }
         }
         let mut ids: Vec<ClassId> = cells.keys().copied().collect();
@@ -153,7 +148,8 @@ impl GaitCostModel {
                 .prune(t)
                 .map_err(|e| CostModelError::Params(e.to_string()))?;
             self.class_gain.insert(t, 0.0);
-            for s in &mut self.learn_class {
+            for &k in &self.support {
+                let s = &mut self.learn_class[k as usize];
                 if *s == TerrainCell::Class(t) {
                     *s = TerrainCell::Eroded;
                 }
@@ -163,18 +159,17 @@ impl GaitCostModel {
     }
 
     /// Alg. 10: dilates the learning assignment into the planning assignment T̂ (Eq. 26).
-    pub(super) fn dilate_classes(&mut self) -> Result<(), CostModelError> {
-        self.plan_class = morphology::dilate(
-            &Raster {
-                rect: self.rect,
-                values: self.learn_class.clone(),
-            },
+    pub(super) fn dilate_classes(&mut self) {
+        for &k in &self.support {
+            self.plan_class[k as usize] = self.learn_class[k as usize];
+        }
+        morphology::dilate_in_place(
+            &mut self.plan_class,
+            self.store.width as usize,
+            &self.support,
             self.params.dilate_size,
             self.params.dilate_steps,
-        )
-        .map_err(|e| CostModelError::Params(e.to_string()))?
-        .values;
-        Ok(())
+        );
     }
 }
 

@@ -97,10 +97,23 @@ pub struct GaitCostModel {
     /// The training index of each learning cell.
     learn_index: HashMap<Cell, usize>,
     igng: Igng,
-    /// Rasters of the last update: learning assignment T (eroded) and planning assignment T̂.
+    /// The descriptors' rectangle at the last update (the map's known bounds).
     rect: CellRect,
+    /// The descriptors' storage rectangle: the lattice of the rasters below, which are kept
+    /// from one update to the next while it stays the same, only their `support` reset.
+    store: CellRect,
+    /// Learning assignment T (eroded) and planning assignment T̂ of the last update.
     learn_class: Vec<TerrainCell>,
     plan_class: Vec<TerrainCell>,
+    /// Storage indices of the described cells at the last update, ascending: the only cells
+    /// of the class rasters that are not unknown.
+    support: Vec<u32>,
+    /// Per storage cell: has a measured cost; the first `mask_applied` cells of `measured`
+    /// are marked.
+    measured_mask: Vec<bool>,
+    mask_applied: usize,
+    /// Admissibility over the storage rectangle at the last update (a reused buffer).
+    admissible: Vec<bool>,
     /// I_C per class of the last update.
     class_gain: HashMap<ClassId, f64>,
     /// Regressor predictions (descriptor, mean, latent variance) per cell since the last
@@ -156,8 +169,13 @@ impl GaitCostModel {
             learn_index: HashMap::default(),
             igng,
             rect: CellRect::new(Cell::new(0, 0), 0, 0),
+            store: CellRect::new(Cell::new(0, 0), 0, 0),
             learn_class: Vec::new(),
             plan_class: Vec::new(),
+            support: Vec::new(),
+            measured_mask: Vec::new(),
+            mask_applied: 0,
+            admissible: Vec::new(),
             class_gain: HashMap::default(),
             novelty_cache: HashMap::default(),
             alpha: None,
@@ -264,7 +282,7 @@ impl GaitCostModel {
 
     /// The eroded class T(ν) of the last update.
     pub fn learning_class(&self, c: Cell) -> Option<ClassId> {
-        match self.rect.index(c).map(|k| self.learn_class[k]) {
+        match self.store.index(c).map(|k| self.learn_class[k]) {
             Some(TerrainCell::Class(t)) => Some(t),
             _ => None,
         }
@@ -272,7 +290,7 @@ impl GaitCostModel {
 
     /// The dilated class T̂(ν) of the last update.
     pub fn planning_class(&self, c: Cell) -> Option<ClassId> {
-        match self.rect.index(c).map(|k| self.plan_class[k]) {
+        match self.store.index(c).map(|k| self.plan_class[k]) {
             Some(TerrainCell::Class(t)) => Some(t),
             _ => None,
         }
@@ -310,16 +328,15 @@ impl GaitCostModel {
         self.alpha = None;
         self.refresh_learning_set(desc)?;
         self.reset_classes(map, desc);
-        let admissible = map.admissible_raster(self.rect);
         if !self.has_regressor() {
-            return Ok(self.bootstrap_update(desc, &admissible));
+            return Ok(self.bootstrap_update());
         }
         self.assign_classes(desc)?;
         let (mut classes, h_gt) = self.rate_classes(desc);
-        let (goals, pruned) = self.class_goals(desc, &admissible, &classes);
+        let (goals, pruned) = self.class_goals(&classes);
         self.prune_classes(&pruned)?;
         classes.retain(|c| !pruned.contains(&c.id));
-        self.dilate_classes()?;
+        self.dilate_classes();
         Ok(ModelUpdate {
             classes,
             h_gt,
@@ -328,14 +345,35 @@ impl GaitCostModel {
         })
     }
 
-    /// Forgets the class rasters, gains and costs of the last update and sizes the rasters for
-    /// the descriptors' rectangle.
+    /// Forgets the class rasters, gains and costs of the last update, lays the rasters out on
+    /// the descriptors' storage rectangle (reusing them when it is unchanged: only the last
+    /// support is reset), and reads admissibility and the measured cells onto it.
     fn reset_classes(&mut self, map: &ElevationMap, desc: &DescriptorField) {
         self.rect = desc.rect();
         self.cell_size = map.cell_size();
-        let n = self.rect.len();
-        self.learn_class = vec![TerrainCell::Unknown; n];
-        self.plan_class = vec![TerrainCell::Unknown; n];
+        let store = desc.storage();
+        if store != self.store || self.learn_class.len() != store.len() {
+            self.store = store;
+            self.learn_class = vec![TerrainCell::Unknown; store.len()];
+            self.plan_class = vec![TerrainCell::Unknown; store.len()];
+            self.measured_mask = vec![false; store.len()];
+            self.mask_applied = 0;
+        } else {
+            for &k in &self.support {
+                self.learn_class[k as usize] = TerrainCell::Unknown;
+                self.plan_class[k as usize] = TerrainCell::Unknown;
+            }
+        }
+        self.support.clear();
+        self.support.extend_from_slice(desc.described_indices());
+        for c in &self.measured[self.mask_applied..] {
+            if let Some(k) = store.index(*c) {
+                self.measured_mask[k] = true;
+            }
+        }
+        self.mask_applied = self.measured.len();
+        map.admissible_layer()
+            .read_rect(store, &mut self.admissible);
         self.class_gain.clear();
         self.class_cost.clear();
     }
@@ -353,7 +391,7 @@ impl GaitCostModel {
         rect.cells()
             .map(|c| {
                 let prior = self.clamp(self.params.gp.prior_mean);
-                let cost = match self.rect.index(c).map(|k| self.plan_class[k]) {
+                let cost = match self.store.index(c).map(|k| self.plan_class[k]) {
                     Some(TerrainCell::Class(t)) => self
                         .class_cost
                         .get(&t)

@@ -138,6 +138,7 @@ impl ElevationMap {
             known_bounds,
             observed_count,
             dirty,
+            changes,
             scratch: s,
             ..
         } = self;
@@ -147,6 +148,7 @@ impl ElevationMap {
         let rk = |c: Cell| (c.j - rect.min.j) as usize * w + (c.i - rect.min.i) as usize;
         // The cells whose elevation changed, and those that became observed.
         let (mut changed, mut newly_known) = (None, None);
+        changes.begin();
         let (ri1, rj1) = rect::max_corner(rect);
         for tj in rect.min.j.div_euclid(ts)..=rj1.div_euclid(ts) {
             for ti in rect.min.i.div_euclid(ts)..=ri1.div_euclid(ts) {
@@ -174,6 +176,7 @@ impl ElevationMap {
                     if tile.carve(t, s.columns.carve_z[k], rule.gate) {
                         stats.cells_carved += 1;
                         changed = Some(rect::include(changed, c));
+                        changes.mark(c);
                     }
                     let z = s.kept.z[k];
                     if z == f32::NEG_INFINITY {
@@ -203,6 +206,7 @@ impl ElevationMap {
                         }
                     }
                     changed = Some(rect::include(changed, c));
+                    changes.mark(c);
                 }
             }
         }

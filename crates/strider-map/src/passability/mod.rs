@@ -27,11 +27,31 @@ use strider_core::CellRect;
 impl ElevationMap {
     /// Recomputes passability (Eq. 7–9) for the cells whose elevation changed since the last call
     /// and their 8-neighbours, then admissibility (decision 4) within r_robot of every cell whose
-    /// passability changed. Returns the rectangle whose admissibility was recomputed (`None` when
-    /// nothing changed).
+    /// passability changed. Returns the bounding rectangle of the cells whose admissibility was
+    /// recomputed (`None` when nothing changed).
+    ///
+    /// The work follows the changed blocks of the map's [`ChangeLog`](crate::changes::ChangeLog),
+    /// not their bounding rectangle: a long-range scan changes cells tens of metres apart, and
+    /// the rectangle between them would be mostly unchanged map. Every cell's passability and
+    /// admissibility depend on its neighbourhood only, so each block is done on its own; all
+    /// passability first, so that admissibility reads the new passability everywhere.
     pub fn update_passability(&mut self) -> Option<CellRect> {
-        let dirty = self.dirty.take()?;
-        let d = self.params.cell_size;
+        self.dirty.take()?;
+        let blocks = self.changes.changed_since(self.passability_revision);
+        self.passability_revision = self.changes.revision();
+        let changed: Vec<CellRect> = blocks
+            .into_iter()
+            .filter_map(|b| self.recompute_passability(b))
+            .collect();
+        changed
+            .into_iter()
+            .map(|c| self.recompute_admissibility(c))
+            .reduce(rect::union)
+    }
+
+    /// π for the cells of `dirty` and their 8-neighbours; the bounding rectangle of the cells
+    /// whose π changed.
+    fn recompute_passability(&mut self, dirty: CellRect) -> Option<CellRect> {
         let p_rect = rect::expand(dirty, 1);
         let e_rect = rect::expand(p_rect, 1);
         let mut elev = Vec::new();
@@ -56,7 +76,12 @@ impl ElevationMap {
         }
         let changed = changed?;
         self.passability.write_rect(p_rect, &new_p);
+        Some(changed)
+    }
 
+    /// Admissibility within r_robot of the cells of `changed`; the rectangle recomputed.
+    fn recompute_admissibility(&mut self, changed: CellRect) -> CellRect {
+        let d = self.params.cell_size;
         let reach = disc_reach(self.params.r_robot, d);
         let a_rect = rect::expand(changed, reach);
         let q_rect = rect::expand(a_rect, reach);
@@ -71,7 +96,7 @@ impl ElevationMap {
         );
         self.admissible
             .write_rect(a_rect, &rect::crop(&adm, q_rect, a_rect));
-        Some(a_rect)
+        a_rect
     }
 }
 
@@ -203,5 +228,48 @@ mod tests {
         assert!(!m.is_admissible(pillar.offset(0, 3)));
         assert!(m.is_admissible(pillar.offset(0, 4)));
         assert_eq!(m.update_passability(), None, "nothing dirty");
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(32))]
+
+        /// However the cells arrive (many batches, spread over many change blocks), the
+        /// incrementally kept layers equal the dense rule over the whole map.
+        #[test]
+        fn incremental_layers_equal_the_dense_rule(
+            batches in proptest::collection::vec(
+                proptest::collection::vec((-40i32..40, -30i32..30, 0usize..4), 1..80),
+                1..6,
+            )
+        ) {
+            use strider_core::{Cell, Rgb8};
+            let params = crate::MapParams {
+                cell_size: 0.1,
+                rho_obstacle: 0.15,
+                r_robot: 0.2,
+                ..Default::default()
+            };
+            let mut m = ElevationMap::new(params.clone());
+            let heights = [0.0f32, 0.1, 0.3, 0.8];
+            for batch in batches {
+                for (i, j, h) in batch {
+                    for dj in 0..2 {
+                        for di in 0..3 {
+                            m.set_cell(Cell::new(i + di, j + dj), heights[h], 1e-4, Rgb8::default());
+                        }
+                    }
+                }
+                m.update_passability();
+            }
+            let known_rect = m.known_bounds().expect("cells were written");
+            let r = rect::expand(known_rect, 4);
+            let (w, h) = (r.width as usize, r.height as usize);
+            let e = m.elevation_raster(r);
+            let known: Vec<bool> = r.cells().map(|c| m.is_observed(c)).collect();
+            let dense = dense_passability(&e, Some(&known), w, h, params.rho_obstacle);
+            proptest::prop_assert_eq!(m.passability_raster(r), dense.clone());
+            let adm = dense_admissible(&dense, w, h, params.r_robot, params.cell_size);
+            proptest::prop_assert_eq!(m.admissible_raster(r), adm);
+        }
     }
 }
