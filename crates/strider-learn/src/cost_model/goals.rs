@@ -176,7 +176,11 @@ fn lattice_sites(
         let (ci, cj) = (k % sw - si, k / sw - sj);
         for &(b, dy2) in rows.at(cj) {
             for &(a, dx2) in cols.at(ci) {
-                let dist = (dx2 + dy2).sqrt();
+                let d2 = dx2 + dy2;
+                if d2 >= r2_loose(r) {
+                    continue;
+                }
+                let dist = d2.sqrt();
                 if dist < r {
                     best.offer(b + a, dist, k);
                 }
@@ -196,6 +200,13 @@ fn lattice_sites(
         }
     }
     out
+}
+
+/// A bound on squared distances beyond which the distance is certainly not below `r`: r² with
+/// a relative margin far above the rounding of the squares and the square root. Only a quick
+/// rejection; the kept pairs are still judged on `sqrt(dx² + dy²) < r`, as Alg. 9 states.
+fn r2_loose(r: f64) -> f64 {
+    r * r * (1.0 + 1e-9)
 }
 
 /// Per cell column (or row) `n` of a rectangle starting at cell `first`: the lattice indices
@@ -228,8 +239,12 @@ fn axis_reach(
         let x = ((first as i64 + n) as f64 + 0.5) * d;
         let (v0, v1) = (((x - r) / ds).floor() as i64, ((x + r) / ds).ceil() as i64);
         for v in v0.max(range.0)..=v1.min(range.1) {
-            let at = (v - range.0) as usize * stride;
-            items.push((at, (x - v as f64 * ds).powi(2)));
+            let dx2 = (x - v as f64 * ds).powi(2);
+            // Farther along this axis alone than r: the distance is at least r whatever the
+            // other axis gives (the margin keeps this true under rounding).
+            if dx2 < r2_loose(r) {
+                items.push(((v - range.0) as usize * stride, dx2));
+            }
         }
     }
     start.push(items.len());

@@ -156,9 +156,14 @@ impl ElevationMap {
                 let Some(ov) = rect::intersection(rect, elevation.tile_rect(key)) else {
                     continue;
                 };
-                if !ov.cells().any(|c| {
-                    s.kept.z[rk(c)] > f32::NEG_INFINITY || s.columns.carve_z[rk(c)] < f32::INFINITY
-                }) {
+                // Row slices of the scratch: a tile that a few beams cross is mostly cells that
+                // nothing reached, and those are skipped with two comparisons each.
+                let (ow, rows) = (ov.width as usize, ov.height as usize);
+                let row_start = |y: usize| rk(Cell::new(ov.min.i, ov.min.j + y as i32));
+                let untouched = |k: usize| {
+                    s.kept.z[k] == f32::NEG_INFINITY && s.columns.carve_z[k] == f32::INFINITY
+                };
+                if (0..rows).all(|y| (row_start(y)..row_start(y) + ow).all(untouched)) {
                     continue;
                 }
                 let mut tile = TileCells {
@@ -170,8 +175,12 @@ impl ElevationMap {
                 };
                 passability.tile_or_insert(key);
                 admissible.tile_or_insert(key);
-                for c in ov.cells() {
-                    let k = rk(c);
+                for (y, x) in (0..rows).flat_map(|y| (0..ow).map(move |x| (y, x))) {
+                    let k = row_start(y) + x;
+                    if untouched(k) {
+                        continue;
+                    }
+                    let c = Cell::new(ov.min.i + x as i32, ov.min.j + y as i32);
                     let t = ((c.j - tj * ts) * ts + (c.i - ti * ts)) as usize;
                     if tile.carve(t, s.columns.carve_z[k], rule.gate) {
                         stats.cells_carved += 1;

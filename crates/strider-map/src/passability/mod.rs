@@ -37,7 +37,7 @@ impl ElevationMap {
     /// passability first, so that admissibility reads the new passability everywhere.
     pub fn update_passability(&mut self) -> Option<CellRect> {
         self.dirty.take()?;
-        let blocks = self.changes.changed_since(self.passability_revision);
+        let blocks = dense_or_sparse(self.changes.changed_since(self.passability_revision));
         self.passability_revision = self.changes.revision();
         let changed: Vec<CellRect> = blocks
             .into_iter()
@@ -97,6 +97,20 @@ impl ElevationMap {
         self.admissible
             .write_rect(a_rect, &rect::crop(&adm, q_rect, a_rect));
         a_rect
+    }
+}
+
+/// The changed blocks as they are best recomputed: one rectangle around them all when they fill
+/// at least half of it (a dense scan, where one pass beats many small ones), else each run.
+fn dense_or_sparse(blocks: Vec<CellRect>) -> Vec<CellRect> {
+    let Some(all) = blocks.iter().copied().reduce(rect::union) else {
+        return blocks;
+    };
+    let area: usize = blocks.iter().map(CellRect::len).sum();
+    if all.len() <= 2 * area {
+        vec![all]
+    } else {
+        blocks
     }
 }
 
