@@ -145,21 +145,10 @@ fn lattice_sites(
     ds: f64,
     candidates: impl Iterator<Item = usize>,
 ) -> Vec<Cell> {
-    if rect.is_empty() {
+    let Some(((a0, a1), (b0, b1))) = lattice_range(rect, d, ds) else {
         return Vec::new();
-    }
+    };
     let r = std::f64::consts::FRAC_1_SQRT_2 * ds;
-    let lo = rect.min.center(d);
-    let hi = Cell::new(
-        rect.min.i + rect.width as i32 - 1,
-        rect.min.j + rect.height as i32 - 1,
-    )
-    .center(d);
-    let (a0, a1) = ((lo.x / ds).ceil() as i64, (hi.x / ds).floor() as i64);
-    let (b0, b1) = ((lo.y / ds).ceil() as i64, (hi.y / ds).floor() as i64);
-    if a1 < a0 || b1 < b0 {
-        return Vec::new();
-    }
     let na = (a1 - a0 + 1) as usize;
     let mut best = LatticeBest::new(na.saturating_mul((b1 - b0 + 1) as usize));
     // Per column (row) of the rectangle: the lattice columns (rows) near enough, with the
@@ -200,6 +189,23 @@ fn lattice_sites(
         }
     }
     out
+}
+
+/// The lattice indices (a0..=a1, b0..=b1) of the points of spacing `ds` between the centres of
+/// the extreme cells of `rect` (cell size `d`); `None` when there is none.
+fn lattice_range(rect: CellRect, d: f64, ds: f64) -> Option<((i64, i64), (i64, i64))> {
+    if rect.is_empty() {
+        return None;
+    }
+    let lo = rect.min.center(d);
+    let hi = Cell::new(
+        rect.min.i + rect.width as i32 - 1,
+        rect.min.j + rect.height as i32 - 1,
+    )
+    .center(d);
+    let (a0, a1) = ((lo.x / ds).ceil() as i64, (hi.x / ds).floor() as i64);
+    let (b0, b1) = ((lo.y / ds).ceil() as i64, (hi.y / ds).floor() as i64);
+    (a0 <= a1 && b0 <= b1).then_some(((a0, a1), (b0, b1)))
 }
 
 /// A bound on squared distances beyond which the distance is certainly not below `r`: r² with
@@ -315,14 +321,9 @@ mod tests {
     /// Alg. 9 lines 4–7 as written: per lattice point, the closest admissible cell around it.
     fn reference(rect: CellRect, d: f64, ds: f64, ok: impl Fn(usize) -> bool) -> Vec<Cell> {
         let r = std::f64::consts::FRAC_1_SQRT_2 * ds;
-        let lo = rect.min.center(d);
-        let hi = Cell::new(
-            rect.min.i + rect.width as i32 - 1,
-            rect.min.j + rect.height as i32 - 1,
-        )
-        .center(d);
-        let (a0, a1) = ((lo.x / ds).ceil() as i64, (hi.x / ds).floor() as i64);
-        let (b0, b1) = ((lo.y / ds).ceil() as i64, (hi.y / ds).floor() as i64);
+        let Some(((a0, a1), (b0, b1))) = lattice_range(rect, d, ds) else {
+            return Vec::new();
+        };
         let reach = (r / d).ceil() as i32 + 1;
         let mut out = Vec::new();
         for b in b0..=b1 {
