@@ -21,7 +21,13 @@ pub const CHANGE_BLOCK: i32 = 16;
 #[derive(Clone, Debug, Default)]
 pub struct ChangeLog {
     revision: u64,
+    /// The newest stamp of every block that ever changed.
     blocks: HashMap<TileKey, u64, BuildHasherDefault<TileHasher>>,
+    /// (revision, block) for each block the first time it changes in a revision, in revision
+    /// order: a query reads only the entries after the revision it has seen, so its cost
+    /// follows the changes, not the map. Compacted to one entry per block (its newest stamp)
+    /// when it holds more than twice as many entries as there are blocks.
+    journal: Vec<(u64, TileKey)>,
     /// The block stamped last in this revision: consecutive cells of a row mostly share a
     /// block, and this skips their hash lookups.
     last: Option<TileKey>,
@@ -33,6 +39,9 @@ impl ChangeLog {
     pub(crate) fn begin(&mut self) {
         self.revision += 1;
         self.last = None;
+        if self.journal.len() > 2 * self.blocks.len() + 1024 {
+            self.compact();
+        }
     }
 
     /// Marks cell `c` changed in the current revision.
@@ -40,9 +49,17 @@ impl ChangeLog {
     pub(crate) fn mark(&mut self, c: Cell) {
         let key = block_of(c);
         if self.last != Some(key) {
-            self.blocks.insert(key, self.revision);
+            if self.blocks.insert(key, self.revision) != Some(self.revision) {
+                self.journal.push((self.revision, key));
+            }
             self.last = Some(key);
         }
+    }
+
+    /// Rewrites the journal as one entry per block at its newest stamp, in revision order.
+    fn compact(&mut self) {
+        self.journal = self.blocks.iter().map(|(&k, &rev)| (rev, k)).collect();
+        self.journal.sort_unstable();
     }
 
     /// The current revision: a consumer that has caught up with the map remembers it.
@@ -53,13 +70,10 @@ impl ChangeLog {
     /// The blocks changed after revision `seen`, as rectangles in row-major block order, runs
     /// of neighbouring changed blocks in a row merged into one rectangle.
     pub fn changed_since(&self, seen: u64) -> Vec<CellRect> {
-        let mut keys: Vec<TileKey> = self
-            .blocks
-            .iter()
-            .filter(|&(_, &rev)| rev > seen)
-            .map(|(&k, _)| k)
-            .collect();
+        let first = self.journal.partition_point(|&(rev, _)| rev <= seen);
+        let mut keys: Vec<TileKey> = self.journal[first..].iter().map(|&(_, k)| k).collect();
         keys.sort_unstable();
+        keys.dedup();
         let mut out: Vec<CellRect> = Vec::new();
         let mut prev: Option<TileKey> = None;
         for k in keys {
@@ -123,6 +137,41 @@ mod tests {
             log.changed_since(seen)[0],
             CellRect::new(Cell::new(-16, 0), 48, 16)
         );
+    }
+
+    #[test]
+    fn queries_equal_the_newest_stamps_across_compactions() {
+        let mut log = ChangeLog::default();
+        let mut stamps: HashMap<TileKey, u64, BuildHasherDefault<TileHasher>> = Default::default();
+        let mut x: u64 = 7;
+        for _ in 0..3000 {
+            log.begin();
+            for _ in 0..(x % 5) {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let c = Cell::new((x >> 40) as i32 % 200 - 100, (x >> 20) as i32 % 120 - 60);
+                log.mark(c);
+                stamps.insert(block_of(c), log.revision());
+            }
+            let seen = log.revision().saturating_sub(x % 40);
+            let mut want: Vec<TileKey> = stamps
+                .iter()
+                .filter(|&(_, &rev)| rev > seen)
+                .map(|(&k, _)| k)
+                .collect();
+            want.sort_unstable();
+            let got: Vec<TileKey> = log
+                .changed_since(seen)
+                .iter()
+                .flat_map(|r| {
+                    (0..r.width as i32 / CHANGE_BLOCK)
+                        .map(move |n| block_of(Cell::new(r.min.i + n * CHANGE_BLOCK, r.min.j)))
+                })
+                .collect();
+            assert_eq!(got, want);
+        }
+        assert!(log.journal.len() <= 2 * log.blocks.len() + 1024 + 5);
     }
 
     #[test]
