@@ -12,7 +12,7 @@ use strider_explore::navigate::Objective;
 
 use strider_experiments::cancel::Interrupted;
 
-use crate::args::{CompareArgs, NavigateArgs, Table5Args, ToursArgs};
+use crate::args::{CompareArgs, MergeArgs, NavigateArgs, Table5Args, ToursArgs};
 use crate::interrupt;
 use crate::progress::Bar;
 
@@ -79,6 +79,7 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
         jobs: threads(a.jobs.unwrap_or_else(available_jobs)),
         time_limit: a.time_limit,
         cancel: interrupt::winds_down().clone(),
+        shard: a.shard.as_deref().map(compare::Shard::parse).transpose()?,
     };
     let entrants = a
         .strategies
@@ -112,6 +113,20 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
         "{} trials in {:.0} s wall -> {}",
         result.trials.len(),
         wall.elapsed().as_secs_f64(),
+        a.out.join("compare.md").display()
+    );
+    Ok(())
+}
+
+/// `strider bench merge`: the shards of a comparison joined into the whole comparison.
+pub fn merge(a: &MergeArgs) -> Result<()> {
+    let (result, command) = compare::merge(&a.dirs)?;
+    compare::write(&a.out, &result, &command)?;
+    print!("{}", compare::markdown(&result, &command));
+    println!(
+        "{} trials from {} shards -> {}",
+        result.trials.len(),
+        a.dirs.len(),
         a.out.join("compare.md").display()
     );
     Ok(())
