@@ -5,7 +5,7 @@
 //! scenario, strategy and seeds, so only the wall times differ).
 
 use std::collections::BTreeSet;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
@@ -81,7 +81,7 @@ struct ShardFile {
     trials: Vec<CompareTrial>,
 }
 
-fn read(dir: &PathBuf) -> Result<(ShardFile, ShardInfo)> {
+fn read(dir: &Path) -> Result<(ShardFile, ShardInfo)> {
     let path = dir.join("compare.json");
     let text = std::fs::read_to_string(&path)
         .with_context(|| format!("cannot read {}", path.display()))?;
@@ -170,4 +170,44 @@ pub fn merge(dirs: &[PathBuf]) -> Result<(Comparison, String)> {
     }
     let c = assemble(&o, &i0.strategies, &skipped, trials, Completion::of(false));
     Ok((c, command_line(&o, &i0.strategies)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_parse_and_split_the_trials_into_disjoint_parts() {
+        let s = Shard::parse("2/3").unwrap();
+        assert_eq!(s, Shard { k: 2, n: 3 });
+        for bad in ["0/3", "4/3", "3", "a/b", "1/0", "1/100001", "-1/2"] {
+            let e = Shard::parse(bad).unwrap_err().to_string();
+            assert!(
+                e.starts_with(&format!("--shard {bad:?}: expected K/N")),
+                "{e}"
+            );
+        }
+        let shards: Vec<Shard> = (1..=3).map(|k| Shard { k, n: 3 }).collect();
+        for i in 0..10 {
+            assert_eq!(shards.iter().filter(|s| s.owns(i)).count(), 1);
+        }
+    }
+
+    #[test]
+    fn merging_needs_shard_folders() {
+        assert!(
+            merge(&[])
+                .unwrap_err()
+                .to_string()
+                .contains("give the folders")
+        );
+        let dir = std::env::temp_dir().join(format!("strider-merge-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let e = format!("{:#}", merge(std::slice::from_ref(&dir)).unwrap_err());
+        assert!(
+            e.contains("cannot read") && e.contains("compare.json"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(dir);
+    }
 }
