@@ -14,6 +14,9 @@ if ! "$PY" -c "import maturin, numpy, pytest, sklearn" 2>/dev/null; then
   echo "  $PY -m pip install maturin numpy pytest scikit-learn ray" >&2
   exit 1
 fi
+# maturin's build hook runs the `maturin` program: the one installed beside that Python.
+PATH="$("$PY" -c 'import os, sys; print(os.path.dirname(sys.executable))'):$PATH"
+export PATH
 # The dev profile of the workspace: the wheel reuses what `cargo test` just built.
 MATURIN_PEP517_ARGS="--profile dev" "$PY" -m pip install --quiet --no-deps --force-reinstall \
   --no-build-isolation ./python
