@@ -87,7 +87,9 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
         .map(|n| Entrant::registered(n))
         .collect::<Result<Vec<_>>>()?;
     let bar = Bar::new("{spinner} compare: {pos}/{len} trials ({elapsed}, eta {eta})");
-    bar.start((o.scenarios.len() * entrants.len() * o.trials) as u64);
+    let all = o.scenarios.len() * entrants.len() * o.trials;
+    // A shard runs about one N-th of the trials.
+    bar.start(o.shard.map_or(all, |s| all.div_ceil(s.n)) as u64);
     let wall = std::time::Instant::now();
     let result = compare::run(&o, &entrants, || bar.inc())?;
     drop(bar);
