@@ -141,6 +141,7 @@ fn main() -> Result<()> {
         jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
         time_limit: Some(limit),
         cancel: Default::default(),
+        shard: None,
     };
     let entrants = vec![Entrant::registered("gtsp")?, entrant()];
     let result = compare::run(&options, &entrants, || {})?;

@@ -85,6 +85,9 @@ pub enum BenchCommand {
     /// with learned navigation, with Mann-Whitney U between each pair; writes DIR/compare.json
     /// and DIR/compare.md.
     Compare(CompareArgs),
+    /// Merge the shards of a comparison (`bench compare --shard K/N`, each in its own folder)
+    /// into the comparison the unsharded command writes: DIR/compare.json and DIR/compare.md.
+    Merge(MergeArgs),
     /// Invariants at scale: seeded missions of every strategy on every built-in world it runs
     /// on (random world and mission seeds, a short time limit per world), each checked against
     /// the simulator's ground truth (the robot's centre never in an inadmissible cell, plans
@@ -268,6 +271,20 @@ pub struct CompareArgs {
     /// Override the scenarios' mission time limit, simulated seconds; > 0 and ≤ 10⁶.
     #[arg(long, value_name = "SECONDS", value_parser = flags::time_limit, allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
+    /// Run only shard K of N (1-based): the trials whose index in the comparison's order is
+    /// K − 1 modulo N, for batch schedulers; `strider bench merge` joins the shards' folders.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Output directory (created if missing).
+    #[arg(long, short = 'o', default_value = "out/compare")]
+    pub out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct MergeArgs {
+    /// The shards' output folders (each with its compare.json).
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
     /// Output directory (created if missing).
     #[arg(long, short = 'o', default_value = "out/compare")]
     pub out: PathBuf,

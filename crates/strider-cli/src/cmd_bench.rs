@@ -12,7 +12,7 @@ use strider_explore::navigate::Objective;
 
 use strider_experiments::cancel::Interrupted;
 
-use crate::args::{CompareArgs, NavigateArgs, Table5Args, ToursArgs};
+use crate::args::{CompareArgs, MergeArgs, NavigateArgs, Table5Args, ToursArgs};
 use crate::interrupt;
 use crate::progress::Bar;
 
@@ -79,6 +79,7 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
         jobs: threads(a.jobs.unwrap_or_else(available_jobs)),
         time_limit: a.time_limit,
         cancel: interrupt::winds_down().clone(),
+        shard: a.shard.as_deref().map(compare::Shard::parse).transpose()?,
     };
     let entrants = a
         .strategies
@@ -86,7 +87,9 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
         .map(|n| Entrant::registered(n))
         .collect::<Result<Vec<_>>>()?;
     let bar = Bar::new("{spinner} compare: {pos}/{len} trials ({elapsed}, eta {eta})");
-    bar.start((o.scenarios.len() * entrants.len() * o.trials) as u64);
+    let all = o.scenarios.len() * entrants.len() * o.trials;
+    // A shard runs about one N-th of the trials.
+    bar.start(o.shard.map_or(all, |s| all.div_ceil(s.n)) as u64);
     let wall = std::time::Instant::now();
     let result = compare::run(&o, &entrants, || bar.inc())?;
     drop(bar);
@@ -112,6 +115,20 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
         "{} trials in {:.0} s wall -> {}",
         result.trials.len(),
         wall.elapsed().as_secs_f64(),
+        a.out.join("compare.md").display()
+    );
+    Ok(())
+}
+
+/// `strider bench merge`: the shards of a comparison joined into the whole comparison.
+pub fn merge(a: &MergeArgs) -> Result<()> {
+    let (result, command) = compare::merge(&a.dirs)?;
+    compare::write(&a.out, &result, &command)?;
+    print!("{}", compare::markdown(&result, &command));
+    println!(
+        "{} trials from {} shards -> {}",
+        result.trials.len(),
+        a.dirs.len(),
         a.out.join("compare.md").display()
     );
     Ok(())

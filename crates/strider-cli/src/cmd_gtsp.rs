@@ -6,22 +6,17 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 use serde_json::json;
-use strider_plan::tsplib::read_instance_file;
-use strider_plan::{Instance, Mode, Solution, SolverParams, TsplibError};
+use strider_experiments::gtsp;
+use strider_plan::{Instance, Mode, Solution, SolverParams};
 
 use strider_experiments::stats;
 
 use crate::args::{GtspBenchArgs, SolveArgs};
 use crate::ranges::{MAX_RUNS, check_count, check_time_limit, show};
 
-/// Parses a solver mode name.
+/// Parses a solver mode name (`--mode`).
 fn parse_mode(s: &str) -> Result<Mode> {
-    Ok(match s {
-        "fast" => Mode::Fast,
-        "default" => Mode::Default,
-        "slow" => Mode::Slow,
-        _ => bail!("unknown --mode {s:?}: use fast, default or slow"),
-    })
+    gtsp::parse_mode(s).map_err(|e| anyhow::anyhow!("--mode: {e}"))
 }
 
 fn params(time_limit: f64, seed: u64, mode: Mode) -> Result<SolverParams> {
@@ -35,29 +30,12 @@ fn params(time_limit: f64, seed: u64, mode: Mode) -> Result<SolverParams> {
     })
 }
 
-/// Reads an instance; parse errors (which carry the line) are prefixed with the file.
 fn read_instance(path: &Path) -> Result<Instance> {
-    read_instance_file(path).map_err(|e| match e {
-        TsplibError::Io { .. } | TsplibError::FileTooLarge { .. } => anyhow::Error::new(e),
-        e => anyhow::Error::new(e).context(path.display().to_string()),
-    })
+    gtsp::read_instance(path)
 }
 
-/// Solves and checks the answer: one vertex per set, reported cost equal to a re-evaluation.
 fn solve_checked(inst: &Instance, p: &SolverParams, path: &Path) -> Result<Solution> {
-    let sol = strider_plan::solve(inst, p)
-        .with_context(|| format!("{}: cannot solve", path.display()))?;
-    inst.check_tour(&sol.tour)
-        .with_context(|| format!("{}: solver returned an infeasible tour", path.display()))?;
-    let re = inst.tour_cost(&sol.tour);
-    if re != sol.cost {
-        bail!(
-            "{}: solver reported cost {} but the tour re-evaluates to {re}",
-            path.display(),
-            sol.cost
-        );
-    }
-    Ok(sol)
+    gtsp::solve_checked(inst, p, &path.display().to_string())
 }
 
 /// Runs `strider gtsp solve`.

@@ -96,6 +96,7 @@ fn dispatch(command: Command) -> Result<()> {
         Command::Learn(LearnCommand::C4Vegetation(a)) => cmd_learn::vegetation(&a),
         Command::Bench(BenchCommand::Table5(a)) => cmd_bench::table5(&a),
         Command::Bench(BenchCommand::Compare(a)) => cmd_bench::compare(&a),
+        Command::Bench(BenchCommand::Merge(a)) => cmd_bench::merge(&a),
         Command::Bench(BenchCommand::Soak(a)) => cmd_bench::soak(&a),
         Command::Scenario(ScenarioCommand::List) => cmd_scenario::list(),
         Command::Scenario(ScenarioCommand::Render(a)) => cmd_scenario::render(&a),
@@ -111,15 +112,7 @@ fn dispatch(command: Command) -> Result<()> {
 /// holds is skipped (library errors often embed their source in their own message). Line breaks
 /// and control characters quoted from the input are flattened and escaped.
 fn one_line(e: &anyhow::Error) -> String {
-    let mut line = e.to_string();
-    for cause in e.chain().skip(1) {
-        let c = cause.to_string();
-        if !line.contains(&c) {
-            line.push_str(": ");
-            line.push_str(&c);
-        }
-    }
-    strider_core::text::one_line(&line)
+    strider_experiments::io::error_line(e)
 }
 
 #[cfg(test)]

@@ -22,6 +22,7 @@ pub fn of(command: &Command) -> Vec<PathBuf> {
             v
         }
         Command::Bench(BenchCommand::Compare(a)) => vec![a.out.as_path()],
+        Command::Bench(BenchCommand::Merge(a)) => vec![a.out.as_path()],
         Command::Bench(BenchCommand::Soak(a)) => vec![a.out.as_path()],
         Command::Scenario(ScenarioCommand::Render(a)) => vec![a.out.as_path()],
         Command::Scenario(ScenarioCommand::Export(a)) => vec![a.out.as_path()],

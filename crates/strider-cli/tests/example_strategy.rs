@@ -15,6 +15,7 @@ fn the_example_strategy_explores_and_is_compared() {
         jobs: 2,
         time_limit: Some(90.0),
         cancel: Default::default(),
+        shard: None,
     };
     let entrants = vec![
         Entrant::registered("greedy").unwrap(),

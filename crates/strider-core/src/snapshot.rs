@@ -61,7 +61,7 @@ impl GoalSet {
 }
 
 /// What a learned cost measures, with what a judge needs to compute it from a terrain table.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Quantity {
     /// The inverse-velocity cost c_high · tanh((v_max / v) / c_high) of a walk at speed v,

@@ -13,6 +13,20 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use anyhow::Context;
 use serde::Serialize;
 
+/// An error and its causes in one line, each cause once (a cause already in the message is
+/// not repeated): what the command prints after `error:` and what the Python package raises.
+pub fn error_line(e: &anyhow::Error) -> String {
+    let mut line = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !line.contains(&c) {
+            line.push_str(": ");
+            line.push_str(&c);
+        }
+    }
+    strider_core::text::one_line(&line)
+}
+
 /// Creates `dir` and its parents.
 pub fn create_dir(dir: &Path) -> anyhow::Result<()> {
     fs::create_dir_all(dir).with_context(|| format!("{}: cannot create directory", dir.display()))

@@ -24,12 +24,13 @@
 //! mission's mapping and learning), [`live`] and [`pace`] (a mission recorded, served to
 //! Foxglove while it runs, paced to the wall clock), [`map_build`] (the map judged against ground truth),
 //! [`stats`] (one definition of each statistic), [`report`] and [`render`] (the HTML report and
-//! the figures), [`scenario_figures`], [`io`], [`parallel`], [`progress`] and [`cancel`] (stopping
+//! the figures), [`scenario_figures`], [`gtsp`] (a GTSPLIB instance solved and checked), [`io`], [`parallel`], [`progress`] and [`cancel`] (stopping
 //! early on Ctrl-C without losing what was done). [`soak`] runs every strategy on many worlds and
 //! checks the invariants every mission must keep.
 
 pub mod cancel;
 pub mod compare;
+pub mod gtsp;
 pub mod io;
 mod journal;
 pub mod live;

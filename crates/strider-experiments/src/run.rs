@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use serde::Serialize;
+use strider_core::snapshot::Snapshot;
 use strider_explore::registry::Configured;
 use strider_explore::{Mission, MissionProgress, MissionStrategy};
 use strider_log::writer::WriteSummary;
@@ -149,6 +150,9 @@ pub struct MissionRun<R> {
     pub path: PathBuf,
     /// What was recorded to MCAP, if asked.
     pub recorded: Option<Recorded>,
+    /// The mission's state at its end, with the map and model layers (for language bindings:
+    /// the report holds figures, not rasters).
+    pub last: Snapshot,
 }
 
 /// A finished `strider run`; its `Display` is the summary for the terminal.

@@ -14,6 +14,7 @@
 //! The simulator's world is the judge here, never seen by the strategies. Strategies come from
 //! the registry or from outside it ([`Entrant::custom`]).
 
+mod shard;
 mod table;
 mod truth;
 
@@ -22,7 +23,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Deserializer, Serialize};
 use strider_core::snapshot::Quantity;
 use strider_explore::TourExplorer;
 use strider_explore::evaluate::NavigationMode;
@@ -39,6 +40,7 @@ use crate::trial::{
     Learned, MAX_TRIALS, TrialRecord, checked_time_limit, configure, drive, robot_spec,
     run_tours_with, section,
 };
+pub use shard::{MAX_SHARDS, Shard, ShardInfo, merge};
 pub use table::markdown;
 use table::{pair_tests, summarise};
 pub use truth::cost_errors;
@@ -97,23 +99,32 @@ pub struct CompareOptions {
     pub time_limit: Option<f64>,
     /// Stops the comparison early: running trials stop, the finished ones are compared.
     pub cancel: Cancel,
+    /// Runs only this shard's trials (see [`Shard`]); `strider bench merge` joins the shards.
+    pub shard: Option<Shard>,
 }
 
 /// One model's learned-cost error.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModelError {
     /// The model (the gait's name for per-gait models).
     pub model: String,
     /// What it learns.
     pub quantity: Quantity,
-    /// RMSE against the terrain table, in the quantity's unit (NaN without cells).
+    /// RMSE against the terrain table, in the quantity's unit (NaN without cells; JSON has
+    /// no NaN, so it is written as null and read back as NaN).
+    #[serde(deserialize_with = "nan_if_null")]
     pub rmse: f64,
     /// Cells compared.
     pub cells: usize,
 }
 
+/// A number JSON wrote as null because it was NaN.
+fn nan_if_null<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
 /// One trial.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CompareTrial {
     /// Where it ran and how the exploration ended.
     #[serde(flatten)]
@@ -186,6 +197,9 @@ pub struct Comparison {
     pub tests: Vec<PairTest>,
     /// Every trial.
     pub trials: Vec<CompareTrial>,
+    /// The shard this is, with what the merge needs (absent for a whole comparison).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shard: Option<ShardInfo>,
 }
 
 struct Task<'a> {
@@ -195,8 +209,9 @@ struct Task<'a> {
     seed: u64,
 }
 
-/// Runs the comparison (trials side by side on `jobs` threads) until it is done or
-/// `o.cancel` is requested; `on_trial` is called after every finished trial.
+/// Runs the comparison (trials side by side on `jobs` threads; only the shard's with
+/// `o.shard`) until it is done or `o.cancel` is requested; `on_trial` is called after every
+/// finished trial.
 pub fn run(
     o: &CompareOptions,
     entrants: &[Entrant],
@@ -204,20 +219,20 @@ pub fn run(
 ) -> Result<Comparison> {
     check(o, entrants)?;
     let (tasks, skipped) = tasks(o, entrants)?;
+    let mine: Vec<&Task> = tasks
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| o.shard.is_none_or(|s| s.owns(*i)))
+        .map(|(_, t)| t)
+        .collect();
     let finished: Vec<Option<CompareTrial>> = pool(o.jobs)?.install(|| {
-        tasks
-            .par_iter()
+        mine.par_iter()
             .with_max_len(1)
             .map(|t| -> Result<Option<CompareTrial>> {
                 if o.cancel.requested() {
                     return Ok(None);
                 }
-                let r = run_trial(t, o).with_context(|| {
-                    format!(
-                        "{} on {} world seed {} seed {}",
-                        t.entrant.name, t.scenario, t.world_seed, t.seed
-                    )
-                })?;
+                let r = run_task(t, o)?;
                 if r.is_some() {
                     on_trial();
                 }
@@ -226,26 +241,108 @@ pub fn run(
             .collect::<Result<Vec<_>>>()
     })?;
     let trials: Vec<CompareTrial> = finished.into_iter().flatten().collect();
-    let completion = Completion::of(trials.len() < tasks.len());
+    let completion = Completion::of(trials.len() < mine.len());
+    let names: Vec<String> = entrants.iter().map(|e| e.name.clone()).collect();
+    let mut c = assemble(o, &names, &skipped, trials, completion);
+    c.shard = o.shard.map(|shard| ShardInfo {
+        shard,
+        scenarios: o.scenarios.clone(),
+        strategies: names.clone(),
+        time_limit: o.time_limit,
+    });
+    Ok(c)
+}
+
+/// One trial of a comparison, by name: what a task of a distributed sweep runs.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TrialId {
+    /// Scenario (built-in name or file).
+    pub scenario: String,
+    /// Strategy (entrant) name.
+    pub strategy: String,
+    /// World seed.
+    pub world_seed: u64,
+    /// Mission seed.
+    pub seed: u64,
+}
+
+/// Every trial of the comparison in its order, and the (scenario, strategy) cells that cannot
+/// run with why.
+pub fn plan(o: &CompareOptions, entrants: &[Entrant]) -> Result<(Vec<TrialId>, Skipped)> {
+    check(o, entrants)?;
+    let (tasks, skipped) = tasks(o, entrants)?;
+    let ids = tasks
+        .iter()
+        .map(|t| TrialId {
+            scenario: t.scenario.to_string(),
+            strategy: t.entrant.name.clone(),
+            world_seed: t.world_seed,
+            seed: t.seed,
+        })
+        .collect();
+    Ok((ids, skipped))
+}
+
+/// Runs the trial `id` of a comparison with options `o` among `entrants`.
+pub fn run_one(o: &CompareOptions, entrants: &[Entrant], id: &TrialId) -> Result<CompareTrial> {
+    let Some(entrant) = entrants.iter().find(|e| e.name == id.strategy) else {
+        bail!("strategy {} is not among the entrants", id.strategy);
+    };
+    let t = Task {
+        scenario: &id.scenario,
+        entrant,
+        world_seed: id.world_seed,
+        seed: id.seed,
+    };
+    run_task(&t, o)?.context("the trial was interrupted")
+}
+
+fn run_task(t: &Task, o: &CompareOptions) -> Result<Option<CompareTrial>> {
+    run_trial(t, o).with_context(|| {
+        format!(
+            "{} on {} world seed {} seed {}",
+            t.entrant.name, t.scenario, t.world_seed, t.seed
+        )
+    })
+}
+
+/// The comparison of `trials` (in any order; sorted here into the comparison's order) of the
+/// strategies `names` under `o`: the cells, the pairwise tests and the trials.
+pub fn assemble(
+    o: &CompareOptions,
+    names: &[String],
+    skipped: &Skipped,
+    mut trials: Vec<CompareTrial>,
+    completion: Completion,
+) -> Comparison {
+    let rank = |v: &[String], x: &str| v.iter().position(|n| n == x).unwrap_or(usize::MAX);
+    trials.sort_by_key(|t| {
+        (
+            rank(&o.scenarios, &t.trial.scenario),
+            rank(names, &t.trial.strategy),
+            t.trial.seed,
+        )
+    });
     let mut cells = Vec::new();
     for name in &o.scenarios {
-        for e in entrants {
-            let key = (name.clone(), e.name.clone());
+        for e in names {
+            let key = (name.clone(), e.clone());
             let mine: Vec<&CompareTrial> = trials
                 .iter()
-                .filter(|t| t.trial.scenario == *name && t.trial.strategy == e.name)
+                .filter(|t| t.trial.scenario == *name && t.trial.strategy == *e)
                 .collect();
-            cells.push(summarise(name, &e.name, skipped.get(&key).cloned(), &mine));
+            cells.push(summarise(name, e, skipped.get(&key).cloned(), &mine));
         }
     }
-    Ok(Comparison {
+    Comparison {
         completion,
         trials_per_cell: o.trials,
         world_seeds: o.world_seeds,
-        tests: pair_tests(&o.scenarios, entrants, &trials),
+        tests: pair_tests(&o.scenarios, names, &trials),
         cells,
         trials,
-    })
+        shard: None,
+    }
 }
 
 fn check(o: &CompareOptions, entrants: &[Entrant]) -> Result<()> {
@@ -273,7 +370,7 @@ fn check(o: &CompareOptions, entrants: &[Entrant]) -> Result<()> {
 }
 
 /// Why an entrant cannot run on a scenario, by (scenario, strategy).
-type Skipped = BTreeMap<(String, String), String>;
+pub type Skipped = BTreeMap<(String, String), String>;
 
 /// Every trial of the entrants that fit each scenario's robot, and why the others do not.
 fn tasks<'a>(o: &'a CompareOptions, entrants: &'a [Entrant]) -> Result<(Vec<Task<'a>>, Skipped)> {

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use strider_core::snapshot::Quantity;
 
-use super::{CompareCell, CompareTrial, Comparison, Entrant, PairTest};
+use super::{CompareCell, CompareTrial, Comparison, PairTest};
 use crate::stats::{Summary, mann_whitney_u};
 
 pub(super) fn summarise(
@@ -57,7 +57,7 @@ type Measure = fn(&CompareTrial) -> Option<f64>;
 
 pub(super) fn pair_tests(
     scenarios: &[String],
-    entrants: &[Entrant],
+    names: &[String],
     trials: &[CompareTrial],
 ) -> Vec<PairTest> {
     let series = |sc: &str, st: &str, f: Measure| -> Vec<f64> {
@@ -73,15 +73,15 @@ pub(super) fn pair_tests(
     ];
     let mut out = Vec::new();
     for sc in scenarios {
-        for (i, a) in entrants.iter().enumerate() {
-            for b in &entrants[i + 1..] {
+        for (i, a) in names.iter().enumerate() {
+            for b in &names[i + 1..] {
                 for (measure, f) in measures {
-                    let (x, y) = (series(sc, &a.name, f), series(sc, &b.name, f));
+                    let (x, y) = (series(sc, a, f), series(sc, b, f));
                     if let Ok(u) = mann_whitney_u(&x, &y) {
                         out.push(PairTest {
                             scenario: sc.clone(),
-                            a: a.name.clone(),
-                            b: b.name.clone(),
+                            a: a.clone(),
+                            b: b.clone(),
                             measure: measure.to_string(),
                             p_two_sided: u.p_two_sided,
                             p_a_less: u.p_less,

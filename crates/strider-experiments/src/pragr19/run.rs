@@ -137,6 +137,7 @@ pub fn run(
         report,
         path,
         recorded: Recorded::of(written.as_ref(), req.mcap),
+        last: mission.snapshot(true),
     })
 }
 

@@ -58,6 +58,7 @@ pub fn run_tour(
         report,
         path,
         recorded: Recorded::of(written.as_ref(), req.mcap),
+        last: mission.snapshot(true),
     })
 }
 

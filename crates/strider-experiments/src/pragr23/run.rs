@@ -161,6 +161,7 @@ pub fn run(
         report,
         path,
         recorded: Recorded::of(trial.written.as_ref(), req.mcap),
+        last: trial.mission.snapshot(true),
     })
 }
 

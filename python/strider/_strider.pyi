@@ -1,0 +1,110 @@
+"""Type stubs of the native module (the Rust crate strider-py)."""
+
+from os import PathLike
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+_Path = Union[str, PathLike]
+
+class StriderError(ValueError):
+    """An error of the Strider library, with the one-line message the command prints."""
+
+def scenarios() -> List[Tuple[str, str]]: ...
+def strategies() -> List[Tuple[str, str, str]]: ...
+def scenario_layers(scenario: str, world_seed: int = 1) -> Dict[str, Any]: ...
+def run(
+    scenario: str,
+    strategy: str,
+    seed: int,
+    world_seed: int,
+    time_limit: Optional[float],
+    sets: List[Tuple[str, str]],
+    out: _Path,
+) -> Tuple[str, Dict[str, Any]]: ...
+def replay(log: _Path, config: _Path, out: _Path) -> str: ...
+def run_python(
+    scenario: str,
+    strategy: Any,
+    model: Any,
+    seed: int,
+    world_seed: int,
+    time_limit: Optional[float],
+    decision_period: float,
+) -> Dict[str, Any]: ...
+def read(path: _Path) -> Instance: ...
+def solve(instance: Instance, seed: int = 1, time_limit: float = 60.0, mode: str = "default") -> Solution: ...
+def solve_matrix(
+    matrix: npt.NDArray[np.int64],
+    sets: Sequence[Sequence[int]],
+    seed: int = 1,
+    time_limit: float = 60.0,
+    mode: str = "default",
+    name: str = "matrix",
+) -> Solution: ...
+def compare_plan(options_json: str) -> str: ...
+def compare_trial(options_json: str, trial_json: str) -> str: ...
+def compare_assemble(options_json: str, trials_json: List[str], skipped: List[Tuple[str, str, str]]) -> str: ...
+
+class GP:
+    """Exact GP regression with an isotropic kernel (se, exp, matern32, matern52)."""
+
+    def __init__(
+        self,
+        kernel: str = "se",
+        lengthscale: float = 0.4,
+        signal_variance: float = 1.0,
+        noise_variance: float = 0.25,
+        prior_mean: float = 0.0,
+    ) -> None: ...
+    def fit(self, x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> "GP":
+        """Conditions on the rows of X (n × d) and targets y (n); replaces earlier data."""
+    def predict(self, q: npt.NDArray[np.float64]) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Mean and latent variance (without noise) at the rows of Q."""
+    def add_point(self, x: Sequence[float], y: float) -> None: ...
+    def remove_point(self, index: int) -> None: ...
+    def fit_hyperparameters(self) -> None:
+        """Maximises the log marginal likelihood over lengthscale, signal and noise variance."""
+    def log_marginal_likelihood(self) -> float: ...
+    def __len__(self) -> int: ...
+    @property
+    def lengthscale(self) -> float: ...
+    @property
+    def signal_variance(self) -> float: ...
+    @property
+    def noise_variance(self) -> float: ...
+
+class Instance:
+    """A GTSP instance: n vertices, 0-based vertex sets, an integer cost matrix."""
+
+    name: str
+    n: int
+    sets: List[List[int]]
+    symmetric: bool
+    def matrix(self) -> npt.NDArray[np.int64]: ...
+
+class Solution:
+    """A GTSP tour: one 0-based vertex per set in visiting order, and its cost."""
+
+    cost: int
+    tour: List[int]
+    time_s: float
+    optimal: bool
+
+class ElevationMap:
+    """The colored 2.5D elevation map (see strider.ElevationMap)."""
+
+    def __init__(self, params_json: Optional[str] = None, scenario: Optional[str] = None, world_seed: int = 1) -> None: ...
+    def fuse(
+        self,
+        points: npt.NDArray[np.float32],
+        colors: npt.NDArray[np.uint8],
+        pose: Sequence[float],
+        world_frame: bool = False,
+    ) -> Dict[str, int]: ...
+    def layers(self) -> Dict[str, Any]: ...
+    @property
+    def observed_cells(self) -> int: ...
+    @property
+    def cell_size(self) -> float: ...

@@ -1,0 +1,55 @@
+"""Python strategies and cost models inside the Rust mission loop: the examples run."""
+
+import runpy
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import strider
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def example(name):
+    sys.path.insert(0, str(EXAMPLES))
+    try:
+        return runpy.run_path(str(EXAMPLES / name), run_name="example")
+    finally:
+        sys.path.remove(str(EXAMPLES))
+
+
+def test_the_python_strategy_explores():
+    r = example("python_strategy.py")["main"](time_limit=30)
+    assert r.strategy == "python" and r.decisions >= 20
+    assert r.driven_m > 0.5 and r.observed_cells > 1000
+    assert int(r.layers["observed"].sum()) == r.observed_cells
+
+
+def test_the_python_cost_model_learns_and_steers():
+    r, model = example("python_cost_model.py")["main"](time_limit=30)
+    assert r.cost_samples > 0 and model.updates > 0 and model.gps
+    X, Y = next(iter(model.data.values()))
+    assert X.shape[1] == 5 and np.isfinite(Y).all()
+
+
+class Raises:
+    def decide(self, snap):
+        raise RuntimeError("strategy bug")
+
+
+class BadAnswer:
+    def decide(self, snap):
+        return {"goal": (0.0, 0.0), "speed": 3}
+
+
+def test_strategy_errors_reach_the_caller():
+    with pytest.raises(RuntimeError, match="strategy bug"):
+        strider.run_python(Raises(), time_limit=5)
+    with pytest.raises(ValueError, match="unknown key \"speed\""):
+        strider.run_python(BadAnswer(), time_limit=5)
+    with pytest.raises(ValueError, match="decide"):
+        strider.run_python(object(), time_limit=5)
+    with pytest.raises(ValueError, match="decision_period"):
+        strider.run_python(BadAnswer(), time_limit=5, decision_period=0)

@@ -1,0 +1,72 @@
+"""Shards merged and the Ray sweep both reproduce `strider bench compare` for the same seeds."""
+
+import json
+
+import pytest
+
+import strider
+
+# 4 short missions: 2 strategies x 2 trials (world seeds 1, 2; mission seeds 1, 2).
+OPTS = dict(scenarios=["courtyard-small"], strategies=["gtsp", "greedy"], trials=2,
+            world_seeds=2, time_limit=10)
+
+
+def cli_args(o):
+    return ["--scenarios", ",".join(o["scenarios"]), "--strategies", ",".join(o["strategies"]),
+            "--trials", o["trials"], "--world-seeds", o["world_seeds"],
+            "--time-limit", o["time_limit"], "--jobs", 1]
+
+
+def without_wall_time(c):
+    c = json.loads(json.dumps(c))
+    for t in c["trials"]:
+        t.pop("wall_s")
+    return c
+
+
+@pytest.fixture(scope="module")
+def unsharded(tmp_path_factory, strider_cli):
+    out = tmp_path_factory.mktemp("compare")
+    strider_cli("bench", "compare", *cli_args(OPTS), "--out", out)
+    c = json.loads((out / "compare.json").read_text())
+    assert len(c["trials"]) == 4 and c["complete"]
+    return c
+
+
+def test_merged_shards_equal_the_unsharded_bench(unsharded, strider_cli, tmp_path):
+    dirs = []
+    for k in (1, 2, 3):
+        d = tmp_path / f"shard{k}"
+        strider_cli("bench", "compare", *cli_args(OPTS), "--shard", f"{k}/3", "--out", d)
+        shard = json.loads((d / "compare.json").read_text())
+        assert shard["shard"]["k"] == k and len(shard["trials"]) in (1, 2)
+        dirs.append(d)
+    strider_cli("bench", "merge", *reversed(dirs), "--out", tmp_path / "merged")
+    merged = json.loads((tmp_path / "merged" / "compare.json").read_text())
+    assert without_wall_time(merged) == without_wall_time(unsharded)
+    md = (tmp_path / "merged" / "compare.md").read_text()
+    assert "strider bench compare --scenarios courtyard-small --strategies gtsp,greedy" in md
+
+
+def test_local_sweep_equals_the_bench(unsharded):
+    c = strider.sweep(**OPTS, local=True)
+    assert without_wall_time(c) == without_wall_time(unsharded)
+
+
+def test_ray_sweep_equals_the_bench(unsharded):
+    ray = pytest.importorskip("ray", reason="ray is not installed (pip install ray)")
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        c = strider.sweep(**OPTS)
+    finally:
+        ray.shutdown()
+    assert without_wall_time(c) == without_wall_time(unsharded)
+
+
+def test_bad_sweep_options_are_value_errors():
+    with pytest.raises(ValueError, match="trials"):
+        strider.sweep(["courtyard-small"], ["gtsp"], trials=0, local=True)
+    with pytest.raises(ValueError, match="no-such"):
+        strider.sweep(["courtyard-small"], ["no-such"], trials=1, local=True)
+    with pytest.raises(ValueError, match="lists"):
+        strider.sweep("courtyard-small", ["gtsp"], trials=1, local=True)
