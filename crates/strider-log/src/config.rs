@@ -57,7 +57,7 @@
 //! topic must have messages; the gait, motion and tf topics are used when present.
 
 use crate::error::{LogError, plain};
-use crate::replay::MAX_SPAN_S;
+use crate::limits::MAX_SPAN_S;
 use crate::ros2::MissingRgb;
 use serde::Deserialize;
 use std::path::Path;

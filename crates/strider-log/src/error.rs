@@ -135,12 +135,12 @@ pub fn mcap_reason(e: &mcap::McapError, offset: u64) -> String {
         E::RecordTooLarge { opcode, len } => format!(
             "corrupt MCAP: a record (opcode {opcode:#04x}) claims {len} bytes, more than the \
              {} MiB a record may have",
-            crate::replay::MAX_RECORD_BYTES >> 20
+            crate::limits::MAX_RECORD_BYTES >> 20
         ),
         E::ChunkTooLarge(len) => format!(
             "corrupt MCAP: a chunk claims {len} bytes uncompressed, more than the {} MiB a \
              chunk may have",
-            crate::replay::MAX_RECORD_BYTES >> 20
+            crate::limits::MAX_RECORD_BYTES >> 20
         ),
         // A sound file written with a compression this reader lacks: nothing to repair.
         E::UnsupportedCompression(name) => format!(

@@ -19,7 +19,7 @@
 //! * [`replay`]: a recorded log behind [`strider_core::interface::Robot`], for
 //!   `strider_explore::Mission::ingest`; [`config`] its TOML configuration.
 //! * [`error`]: [`LogError`], which says what was wrong and where (file, topic, message index,
-//!   byte offset).
+//!   byte offset); [`limits`]: the bounds a log must keep.
 //!
 //! Nothing here is used by the algorithms: `strider-explore` does not depend on this crate.
 
@@ -28,6 +28,7 @@
 pub mod cdr;
 pub mod config;
 pub mod error;
+pub mod limits;
 pub mod live;
 pub mod recorder;
 pub mod replay;

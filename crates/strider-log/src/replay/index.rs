@@ -1,13 +1,13 @@
 //! The checking pass of a replay: every message on a configured topic is checked and all but
 //! the clouds' payloads are decoded, so a faulty log is reported before any work.
 
-use super::plausibility::StampOrder;
 use super::reader::{Reader, Source};
 use super::roles::{Role, check};
 use super::tf::{Iso, TfBuffer};
 use crate::cdr;
 use crate::config::ReplayConfig;
 use crate::error::{LogError, MessageAt};
+use crate::limits::MAX_SPAN_S;
 use crate::ros2::{
     HeaderPrefix, MissingRgb, MsgType, Odometry, Quaternion, StringMsg, TfMessage, UInt8Msg,
     nanos_to_seconds,
@@ -15,10 +15,6 @@ use crate::ros2::{
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 use strider_core::GaitId;
-
-/// Longest log accepted, s: a longer span means a bogus stamp, which would make the replay
-/// tick through years of nothing.
-pub const MAX_SPAN_S: f64 = 7.0 * 86400.0;
 
 /// Most poses, transforms, gait and motion messages a replay keeps from its checking pass
 /// (about 100 bytes each, 1 GB in all): 28 hours of a 100 Hz pose stream. A longer log is
@@ -317,4 +313,31 @@ fn gait(data: &[u8], ty: MsgType, at: MessageAt, gait_names: &[&str]) -> Result<
             ))
         })?;
     Ok(GaitId(k as u8))
+}
+
+/// The latest stamp per topic (or frame) in file order, counting stamps that go backwards.
+#[derive(Default)]
+pub(super) struct StampOrder {
+    last: std::collections::HashMap<String, i64>,
+    pub(super) backward: usize,
+    pub(super) first: Option<(String, usize)>,
+}
+
+impl StampOrder {
+    /// Notes message `index` of `topic` stamped `ns`, ordered among those of `key` (the
+    /// topic, or a frame of it).
+    pub(super) fn note(&mut self, key: &str, topic: &str, index: usize, ns: i64) {
+        match self.last.get_mut(key) {
+            Some(last) if ns < *last => {
+                self.backward += 1;
+                if self.first.is_none() {
+                    self.first = Some((topic.to_string(), index));
+                }
+            }
+            Some(last) => *last = ns,
+            None => {
+                self.last.insert(key.to_string(), ns);
+            }
+        }
+    }
 }

@@ -46,12 +46,12 @@ mod reader;
 mod roles;
 mod tf;
 
+pub use crate::limits::{MAX_RECORD_BYTES, MAX_SPAN_S};
 pub use clouds::MAX_PENDING_CLOUD_BYTES;
-pub use index::{MAX_INDEXED, MAX_SPAN_S};
+pub use index::MAX_INDEXED;
 pub use plausibility::{
     JUMP_MIN_M, JUMP_SPEED_FACTOR, Plausibility, SPEED_BASELINE_S, SPEED_MARGIN,
 };
-pub use reader::MAX_RECORD_BYTES;
 
 use crate::config::ReplayConfig;
 use crate::error::{LogError, MessageAt};

@@ -169,30 +169,3 @@ impl Plausibility {
         }
     }
 }
-
-/// The latest stamp per topic (or frame) in file order, counting stamps that go backwards.
-#[derive(Default)]
-pub(super) struct StampOrder {
-    last: std::collections::HashMap<String, i64>,
-    pub(super) backward: usize,
-    pub(super) first: Option<(String, usize)>,
-}
-
-impl StampOrder {
-    /// Notes message `index` of `topic` stamped `ns`, ordered among those of `key` (the
-    /// topic, or a frame of it).
-    pub(super) fn note(&mut self, key: &str, topic: &str, index: usize, ns: i64) {
-        match self.last.get_mut(key) {
-            Some(last) if ns < *last => {
-                self.backward += 1;
-                if self.first.is_none() {
-                    self.first = Some((topic.to_string(), index));
-                }
-            }
-            Some(last) => *last = ns,
-            None => {
-                self.last.insert(key.to_string(), ns);
-            }
-        }
-    }
-}

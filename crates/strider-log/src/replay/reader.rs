@@ -2,16 +2,13 @@
 //! bytes it read to say where a fault was found.
 
 use crate::error::{LogError, mcap_reason};
+use crate::limits::MAX_RECORD_BYTES;
 use std::cell::Cell;
 use std::fs::File;
 use std::io::{BufReader, Cursor, Read};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::sync::Arc;
-
-/// Largest record (and decompressed chunk) read, bytes: far above any sensor message, and a
-/// bound on what a corrupted length field can make the reader allocate.
-pub const MAX_RECORD_BYTES: usize = 256 << 20;
 
 /// Where a log's bytes come from: a file, or bytes in memory (named for messages).
 #[derive(Clone, Debug)]
