@@ -14,11 +14,11 @@ use pyo3::types::PyDict;
 use strider_core::PoseStamped;
 use strider_core::interface::MotionState;
 use strider_core::snapshot::{GoalKind, Snapshot};
-use strider_core::{Cell, GaitId, Point2};
+use strider_core::{GaitId, Point2};
 use strider_explore::kernel::{Actuators, Body, GoalCounts, map_layers, site_at};
 use strider_explore::{FromParams, Mission, MissionStrategy, Termination, TourExplorer};
 use strider_learn::signals::{InverseVelocityCost, InverseVelocityParams};
-use strider_map::descriptors::shape_lab_descriptor;
+use strider_map::descriptors::{shape_lab_descriptor, shape_lab_descriptors};
 
 use crate::errors::{msg, to_py};
 use crate::layers::{grid, to_dict};
@@ -62,15 +62,13 @@ fn cell_descriptors(
     rect: strider_core::CellRect,
     delta: f64,
 ) -> (Vec<f64>, Vec<usize>) {
-    let map = body.map();
+    // One view over the rectangle for all cells (what `shape_lab_descriptor` builds per cell).
+    let raster = shape_lab_descriptors(body.map(), rect, delta);
     let (mut desc, mut at) = (Vec::new(), Vec::new());
-    for r in 0..rect.height as i32 {
-        for c in 0..rect.width as i32 {
-            let cell = Cell::new(rect.min.i + c, rect.min.j + r);
-            if let Some(d) = shape_lab_descriptor(map, cell, delta) {
-                desc.extend(d.iter().map(|v| *v as f64));
-                at.push(r as usize * rect.width as usize + c as usize);
-            }
+    for (k, d) in raster.values.iter().enumerate() {
+        if let Some(d) = d {
+            desc.extend(d.iter().map(|v| *v as f64));
+            at.push(k);
         }
     }
     (desc, at)
