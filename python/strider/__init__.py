@@ -17,13 +17,15 @@ import tempfile
 from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
 
 from . import _strider, gtsp
-from ._strider import GP, StriderError
+from ._strider import GP, RBCM, CostModel, StriderError
 from .report import Report
 from .strategy import run_python
 from .sweep import sweep
 
 __all__ = [
     "GP",
+    "RBCM",
+    "CostModel",
     "ElevationMap",
     "Report",
     "StriderError",
@@ -45,6 +47,23 @@ def _seed(name: str, v: Any) -> int:
     if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v < _U64:
         raise StriderError(f"{name} {v!r}: must be an integer in [0, 2^64)")
     return v
+
+
+_MAX_TIME_LIMIT_S = 1e6
+
+
+def _time_limit(v: Any) -> Optional[float]:
+    """``time_limit`` checked where it enters: None (the scenario's) or simulated seconds."""
+    if v is None:
+        return None
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise StriderError(f"time_limit {v!r}: must be a number of simulated seconds")
+    t = float(v)
+    if not (0.0 < t <= _MAX_TIME_LIMIT_S):  # also refuses NaN
+        raise StriderError(
+            f"time_limit {v!r}: must be a finite number of simulated seconds > 0 and ≤ 1e6"
+        )
+    return t
 
 
 def _set_value(key: str, v: Any) -> str:
@@ -108,7 +127,7 @@ def run(
     (default: a temporary folder, removed). Returns a :class:`Report`."""
     seed = _seed("seed", seed)
     world_seed = _seed("world_seed", world_seed)
-    tl = None if time_limit is None else float(time_limit)
+    tl = _time_limit(time_limit)
     sets = _sets(params)
 
     def work(d: str) -> Report:

@@ -75,6 +75,60 @@ class GP:
     @property
     def noise_variance(self) -> float: ...
 
+class RBCM:
+    """The robust Bayesian committee machine of GP experts (Prágr19 Eq. 7–9)."""
+
+    def __init__(
+        self,
+        dim: int,
+        kernel: str = "se",
+        lengthscale: float = 0.4,
+        signal_variance: float = 1.0,
+        noise_variance: float = 0.25,
+        prior_mean: float = 0.0,
+        m_max: int = 50,
+        m_min: int = 25,
+        variant: str = "robust",
+        fit_experts: bool = False,
+    ) -> None: ...
+    def add(self, x: npt.NDArray[np.float64], y: npt.NDArray[np.float64]) -> "RBCM":
+        """Adds the rows of X (n × dim) with targets y in order; experts fill m_max points each."""
+    def predict(self, q: npt.NDArray[np.float64]) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """The committee's mean and latent variance at the rows of Q."""
+    def __len__(self) -> int: ...
+    @property
+    def experts(self) -> Tuple[int, int]:
+        """(experts, experts taking part in predictions)."""
+
+class CostModel:
+    """The traversal cost model of one gait over an ElevationMap (Prágr22, IGNG classes)."""
+
+    def __init__(
+        self,
+        map: "ElevationMap",
+        gait: int = 0,
+        seed: int = 1,
+        lengthscale: float = 0.4,
+        signal_variance: float = 1.0,
+        noise_variance: float = 0.25,
+        prior_mean: float = 1.0,
+        c_max: float = 20.0,
+    ) -> None: ...
+    def measure(self, x: float, y: float, cost: float) -> bool:
+        """Fuses a cost measured at (x, y) when it is novel; returns whether it was stored."""
+    def update(self) -> Dict[str, Any]:
+        """Relearns regressor and classes; returns classes, h_gt, goals and pruned classes."""
+    def costs(self) -> npt.NDArray[np.float32]:
+        """Planning cost per cell of the map's layers rectangle."""
+    def classes(self) -> npt.NDArray[np.int32]:
+        """Planning terrain class per cell of the map's layers rectangle, −1 for none."""
+    def predict(self, d: npt.NDArray[np.float64]) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """The regressor's mean and latent variance at 9-bin colour histograms (n × 9)."""
+    @property
+    def measured_cells(self) -> int: ...
+    @property
+    def learning_set(self) -> int: ...
+
 class Instance:
     """A GTSP instance: n vertices, 0-based vertex sets, an integer cost matrix."""
 

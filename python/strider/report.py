@@ -13,7 +13,8 @@ class Report:
     ``r.termination``, ``r.models``, …) and ``r.json`` is the whole document as a dict.
     ``r.layers`` holds the final map and model layers as numpy arrays (``elevation``,
     ``elevation_variance``, ``color``, ``observed``, ``passability`` and, per learned model,
-    ``models[name]["cost"|"variance"|"measured"]``), indexed ``[row, col]`` with row 0 the
+    ``models[name]["cost"|"variance"|"measured"]`` and, for models with terrain classes,
+    ``models[name]["classes"]``: the planning class of each cell, −1 for none), indexed ``[row, col]`` with row 0 the
     lowest y, with ``cell_size`` (m) and ``origin`` (the world x, y of the lower-left corner).
     """
 

@@ -3,9 +3,12 @@
 A strategy is any object with ``decide(snapshot) -> dict | None``. ``snapshot`` is a dict:
 ``time_s``, ``pose`` (x, y, yaw), ``gait``, ``gaits`` (their count), ``layers`` (the map's
 numpy layers, as :attr:`strider.Report.layers`) and, with a cost model, ``cost`` and
-``cost_variance`` (the model's prediction for every observed cell, NaN elsewhere). The answer
-may hold ``goal`` (x, y) — driven to in a straight line —, ``path`` [(x, y), …], ``gait``
-(an index) and ``done`` (True ends the mission); ``None`` keeps the current course.
+``cost_variance`` (the model's prediction for every observed cell, NaN elsewhere), and
+``goal_reachable`` (whether the last goal had a route; None before the first goal). The answer
+may hold ``goal`` (x, y) — driven along the shortest route on the map that keeps the robot's
+footprint off obstacles, planned as the built-in explorers plan; with no known route the robot
+stops —, ``path`` [(x, y), …] (driven as given), ``gait`` (an index) and ``done`` (True ends
+the mission); ``None`` keeps the current course.
 
 A cost model is any object with ``update(descriptors, costs, gaits)`` (the samples measured
 since the last decision: an (n, 5) float64 array of Prágr19 shape + Lab descriptors of the
@@ -36,16 +39,16 @@ def run_python(
     ``exploration_time_s``, ``driven_m``, ``observed_cells``, ``termination``,
     ``cost_samples``, ``decisions``, ``python_s`` (wall time inside Python), ``mission_wall_s``
     and the final ``layers``. An exception raised by the strategy or the model ends the mission
-    and is raised here."""
+    (termination ``StrategyFailed``) and is raised here."""
     if not callable(getattr(strategy, "decide", None)):
         raise _strider.StriderError("strategy: needs a decide(snapshot) method")
     if cost_model is not None:
         for m in ("update", "predict"):
             if not callable(getattr(cost_model, m, None)):
                 raise _strider.StriderError(f"cost_model: needs an {m}(...) method")
-    from . import _seed  # the package's one seed check
+    from . import _seed, _time_limit  # the package's one check of each
 
-    tl = None if time_limit is None else float(time_limit)
+    tl = _time_limit(time_limit)
     d = _strider.run_python(
         str(scenario),
         strategy,

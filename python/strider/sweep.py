@@ -15,6 +15,8 @@ from . import _strider
 
 
 def _options(scenarios, strategies, trials, world_seeds, time_limit) -> str:
+    from . import _time_limit  # the package's one check
+
     if isinstance(scenarios, str) or isinstance(strategies, str):
         raise _strider.StriderError("scenarios and strategies: give lists of names")
     for name, v in (("trials", trials), ("world_seeds", world_seeds)):
@@ -26,7 +28,7 @@ def _options(scenarios, strategies, trials, world_seeds, time_limit) -> str:
             "strategies": [str(s) for s in strategies],
             "trials": trials,
             "world_seeds": world_seeds,
-            "time_limit": None if time_limit is None else float(time_limit),
+            "time_limit": _time_limit(time_limit),
         }
     )
 

@@ -45,6 +45,10 @@ def test_layers_are_numpy_and_agree_with_the_report(mission):
     assert sorted(L["models"]) == sorted(m["gait"] for m in r.models)
     for m in L["models"].values():
         assert m["cost"].shape == (rows, cols)
+        # The planning classes: −1 or a class id, on observed cells only.
+        c = m["classes"]
+        assert c.dtype == np.int32 and c.shape == (rows, cols) and c.min() >= -1
+        assert (c[~L["observed"]] == -1).all() or (c >= 0).sum() > 0
 
 
 def test_the_same_mission_from_the_command_writes_the_same_report(mission, strider_cli, tmp_path):
@@ -63,8 +67,10 @@ def test_bad_arguments_are_value_errors():
         strider.run("courtyard-small", "no-such-strategy", time_limit=1)
     with pytest.raises(ValueError, match="no_such_param"):
         strider.run("courtyard-small", "gtsp", time_limit=1, params={"no_such_param": 1})
-    with pytest.raises(ValueError, match="time-limit"):
+    with pytest.raises(ValueError, match="time_limit nan"):
         strider.run("courtyard-small", "gtsp", time_limit=float("nan"))
+    with pytest.raises(ValueError, match="time_limit"):
+        strider.run("courtyard-small", "gtsp", time_limit="10")
     with pytest.raises(ValueError, match="seed"):
         strider.run("courtyard-small", "gtsp", seed=-1, time_limit=1)
 

@@ -53,3 +53,22 @@ def test_strategy_errors_reach_the_caller():
         strider.run_python(object(), time_limit=5)
     with pytest.raises(ValueError, match="decision_period"):
         strider.run_python(BadAnswer(), time_limit=5, decision_period=0)
+
+
+class FarAway:
+    """Asks for a goal no known route reaches, and records what the next snapshots say."""
+
+    def __init__(self):
+        self.seen = []
+
+    def decide(self, snap):
+        self.seen.append(snap["goal_reachable"])
+        return {"goal": (500.0, 500.0)}
+
+
+def test_goals_are_planned_on_the_map_and_unreachable_ones_are_reported():
+    s = FarAway()
+    r = strider.run_python(s, time_limit=5)
+    assert s.seen[0] is None and s.seen[1:] and not any(s.seen[1:])
+    # No route: the robot stays where it is rather than drive blind.
+    assert r.driven_m < 0.05

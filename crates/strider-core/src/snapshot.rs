@@ -94,6 +94,10 @@ pub struct ModelLayer {
     pub variance: Vec<f32>,
     /// The cost measured in the cell.
     pub measured: Vec<f32>,
+    /// The terrain class the planner gives each cell (Prágr22's planning assignment), −1 where
+    /// the cell has none; `None` for models without terrain classes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub classes: Option<Vec<i32>>,
 }
 
 impl ModelLayer {
@@ -112,12 +116,16 @@ impl ModelLayer {
             cost: vec![f32::NAN; cells],
             variance: vec![f32::NAN; cells],
             measured: vec![f32::NAN; cells],
+            classes: None,
         }
     }
 
     /// Whether each of its layers has one value per cell of a rectangle of `cells` cells.
     pub fn fits(&self, cells: usize) -> bool {
-        self.cost.len() == cells && self.variance.len() == cells && self.measured.len() == cells
+        self.cost.len() == cells
+            && self.variance.len() == cells
+            && self.measured.len() == cells
+            && self.classes.as_ref().is_none_or(|c| c.len() == cells)
     }
 }
 

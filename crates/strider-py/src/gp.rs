@@ -23,9 +23,9 @@ pub struct Gp {
 }
 
 /// A prediction's mean and latent variance, one value per query.
-type MeanVariance<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+pub(crate) type MeanVariance<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 
-fn kernel_kind(s: &str) -> PyResult<KernelKind> {
+pub(crate) fn kernel_kind(s: &str) -> PyResult<KernelKind> {
     Ok(match s {
         "se" => KernelKind::SquaredExponential,
         "exp" => KernelKind::Exponential,
@@ -39,7 +39,7 @@ fn kernel_kind(s: &str) -> PyResult<KernelKind> {
     })
 }
 
-fn check(name: &str, v: f64, zero_ok: bool) -> PyResult<f64> {
+pub(crate) fn check(name: &str, v: f64, zero_ok: bool) -> PyResult<f64> {
     if v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0)) {
         return Ok(v);
     }
@@ -48,7 +48,7 @@ fn check(name: &str, v: f64, zero_ok: bool) -> PyResult<f64> {
 }
 
 /// The rows of a 2-D array as one row-major vector, with their count and width.
-fn rows(a: &PyReadonlyArray2<f64>, what: &str) -> PyResult<(Vec<f64>, usize, usize)> {
+pub(crate) fn rows(a: &PyReadonlyArray2<f64>, what: &str) -> PyResult<(Vec<f64>, usize, usize)> {
     let v = a.as_array();
     let (n, d) = v.dim();
     let flat: Vec<f64> = v.iter().copied().collect();
@@ -56,6 +56,34 @@ fn rows(a: &PyReadonlyArray2<f64>, what: &str) -> PyResult<(Vec<f64>, usize, usi
         return Err(msg(format!("{what}: every value must be finite")));
     }
     Ok((flat, n, d))
+}
+
+/// GP hyperparameters from the Python keywords, each checked.
+pub(crate) fn gp_params(
+    kernel: &str,
+    lengthscale: f64,
+    signal_variance: f64,
+    noise_variance: f64,
+    prior_mean: f64,
+) -> PyResult<GpParams> {
+    let kind = kernel_kind(kernel)?;
+    check("lengthscale", lengthscale, false)?;
+    check("signal_variance", signal_variance, false)?;
+    check("noise_variance", noise_variance, true)?;
+    if !prior_mean.is_finite() {
+        return Err(msg(format!(
+            "prior_mean {prior_mean}: must be a finite number"
+        )));
+    }
+    Ok(GpParams {
+        kernel: Kernel {
+            kind,
+            lengthscales: vec![lengthscale],
+            signal_variance,
+        },
+        noise_variance,
+        prior_mean,
+    })
 }
 
 impl Gp {
@@ -77,25 +105,14 @@ impl Gp {
         noise_variance: f64,
         prior_mean: f64,
     ) -> PyResult<Self> {
-        let kind = kernel_kind(kernel)?;
-        check("lengthscale", lengthscale, false)?;
-        check("signal_variance", signal_variance, false)?;
-        check("noise_variance", noise_variance, true)?;
-        if !prior_mean.is_finite() {
-            return Err(msg(format!(
-                "prior_mean {prior_mean}: must be a finite number"
-            )));
-        }
         Ok(Self {
-            params: GpParams {
-                kernel: Kernel {
-                    kind,
-                    lengthscales: vec![lengthscale],
-                    signal_variance,
-                },
+            params: gp_params(
+                kernel,
+                lengthscale,
+                signal_variance,
                 noise_variance,
                 prior_mean,
-            },
+            )?,
             gp: None,
         })
     }

@@ -52,6 +52,9 @@ pub fn to_dict<'py>(py: Python<'py>, l: Layers, cell_size: f64) -> PyResult<Boun
         md.set_item("cost", grid(py, m.cost, rows, cols)?)?;
         md.set_item("variance", grid(py, m.variance, rows, cols)?)?;
         md.set_item("measured", grid(py, m.measured, rows, cols)?)?;
+        if let Some(classes) = m.classes {
+            md.set_item("classes", grid(py, classes, rows, cols)?)?;
+        }
         models.set_item(m.name, md)?;
     }
     d.set_item("models", models)?;

@@ -10,13 +10,16 @@
 
 use pyo3::prelude::*;
 
+mod cost_model;
 mod errors;
+mod goal_planner;
 mod gp;
 mod gtsp;
 mod layers;
 mod map;
 mod mission;
 mod python_strategy;
+mod rbcm;
 mod sweep;
 
 /// The `strider._strider` extension module.
@@ -36,6 +39,8 @@ fn _strider(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::compare_trial, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::compare_assemble, m)?)?;
     m.add_class::<gp::Gp>()?;
+    m.add_class::<rbcm::Rbcm>()?;
+    m.add_class::<cost_model::CostModel>()?;
     m.add_class::<gtsp::Instance>()?;
     m.add_class::<gtsp::Solution>()?;
     m.add_class::<map::ElevationMap>()?;

@@ -17,7 +17,7 @@ use crate::layers::to_dict;
 /// `{"cell_size": 0.1}`; unknown names are an error).
 #[pyclass(module = "strider", unsendable, subclass)]
 pub struct ElevationMap {
-    map: RustMap,
+    pub(crate) map: RustMap,
     scans: u64,
 }
 

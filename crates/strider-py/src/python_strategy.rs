@@ -4,7 +4,9 @@
 //! `decision_period` simulated seconds) the cost samples measured since the last one go to the
 //! cost model's `update(descriptors, costs, gaits)`, the model's `predict(descriptors)` gives the
 //! cost and variance of every observed cell, and the strategy's `decide(snapshot)` returns what
-//! to do next. A Python exception ends the mission and is raised from `run_python`.
+//! to do next: a goal is driven along the cheapest route on the map ([`GoalPlanner`]), a path
+//! as given. A Python exception ends the mission (termination `StrategyFailed`) and is raised
+//! from `run_python`.
 
 use std::time::Instant;
 
@@ -21,6 +23,7 @@ use strider_learn::signals::{InverseVelocityCost, InverseVelocityParams};
 use strider_map::descriptors::{shape_lab_descriptor, shape_lab_descriptors};
 
 use crate::errors::{msg, to_py};
+use crate::goal_planner::GoalPlanner;
 use crate::layers::{grid, to_dict};
 
 /// The descriptor of a cost sample and of a cell: Prágr19's shape + Lab colour (5 values).
@@ -52,6 +55,9 @@ struct PyStrategy {
     samples: Samples,
     learned: usize,
     goal: Option<Point2>,
+    /// Whether the last goal had a route (`None` before the first goal).
+    goal_reachable: Option<bool>,
+    planner: GoalPlanner,
     calls: Calls,
     error: Option<PyErr>,
 }
@@ -146,6 +152,7 @@ impl PyStrategy {
             snap.set_item("gait", p.gait.0)?;
         }
         snap.set_item("gaits", self.gaits)?;
+        snap.set_item("goal_reachable", self.goal_reachable)?;
         snap.set_item(
             "layers",
             to_dict(py, map_layers(body.map()), body.map().cell_size())?,
@@ -183,11 +190,13 @@ impl PyStrategy {
             robot.follow(&path);
         } else if let Some(g) = d.get_item("goal")? {
             let goal = point(&g)?;
-            let from = body
-                .pose()
-                .map_or(goal, |p| Point2::new(p.position.x, p.position.y));
             self.goal = Some(goal);
-            robot.follow(&[from, goal]);
+            let route = body
+                .position()
+                .and_then(|from| self.planner.route(body.map(), from, goal));
+            self.goal_reachable = Some(route.is_some());
+            // No known route: the robot stops rather than drive blind into the unknown.
+            robot.follow(route.as_deref().unwrap_or(&[]));
         }
         Ok(match d.get_item("done")? {
             Some(v) => v.is_truthy()?,
@@ -239,7 +248,7 @@ impl MissionStrategy for PyStrategy {
             Ok(true) => Some(Termination::GoalsCleared),
             Err(e) => {
                 self.error = Some(e);
-                Some(Termination::GoalsCleared)
+                Some(Termination::StrategyFailed)
             }
         }
     }
@@ -288,6 +297,13 @@ pub fn run_python<'py>(
     }
     let iv: InverseVelocityParams = params.inverse_velocity();
     let signal = InverseVelocityCost::new(iv).map_err(|e| msg(e.to_string()))?;
+    let planner = GoalPlanner::new(
+        params.gaits.len(),
+        params.c_loss,
+        params.bounds,
+        &params.map,
+    )
+    .map_err(msg)?;
     let strat = PyStrategy {
         strategy,
         model,
@@ -299,6 +315,8 @@ pub fn run_python<'py>(
         samples: Samples::default(),
         learned: 0,
         goal: None,
+        goal_reachable: None,
+        planner,
         calls: Calls::default(),
         error: None,
     };

@@ -10,6 +10,9 @@ pub enum Termination {
     NoReachableGoals,
     /// The time limit was reached first.
     TimeLimit,
+    /// The strategy failed (e.g. a strategy written in Python raised an exception) and the
+    /// mission stopped there.
+    StrategyFailed,
 }
 
 /// Errors of a mission.

@@ -60,33 +60,30 @@ impl TourExplorer {
             .iter()
             .map(|c| (c.id.0, c.variance))
             .collect();
-        let mut layer = ModelLayer {
+        let n = rect.len();
+        let (mut cost, mut variance) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        let (mut measured, mut classes) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        for (k, c) in rect.cells().enumerate() {
+            let class = md.planning_class(c);
+            classes.push(class.map_or(-1, |t| i32::try_from(t.0).unwrap_or(i32::MAX)));
+            let v = class
+                .and_then(|t| class_var.get(&t.0).copied())
+                .map_or(f32::NAN, |v| v as f32);
+            cost.push(if layers.observed[k] { plan[k] } else { f32::NAN });
+            variance.push(v);
+            measured.push(md.cell_cost(c).map_or(f32::NAN, |cc| cc.cost as f32));
+        }
+        ModelLayer {
             name: self.params.gaits[g].name.clone(),
             quantity: Quantity::InverseVelocity {
                 v_max: self.params.v_max(),
                 c_high: self.params.c_high,
             },
             gait: Some(GaitId(g as u8)),
-            cost: Vec::with_capacity(rect.len()),
-            variance: Vec::with_capacity(rect.len()),
-            measured: Vec::with_capacity(rect.len()),
-        };
-        for (k, c) in rect.cells().enumerate() {
-            let v = md
-                .planning_class(c)
-                .and_then(|t| class_var.get(&t.0).copied())
-                .map_or(f32::NAN, |v| v as f32);
-            let cost = if layers.observed[k] {
-                plan[k]
-            } else {
-                f32::NAN
-            };
-            layer.cost.push(cost);
-            layer.variance.push(v);
-            layer
-                .measured
-                .push(md.cell_cost(c).map_or(f32::NAN, |cc| cc.cost as f32));
+            cost,
+            variance,
+            measured,
+            classes: Some(classes),
         }
-        layer
     }
 }
