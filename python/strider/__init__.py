@@ -20,7 +20,7 @@ from . import _strider, gtsp
 from ._strider import GP, RBCM, CostModel, StriderError
 from .report import Report
 from .strategy import run_python
-from .sweep import sweep
+from .sweep import sweep, sweep_table5
 
 __all__ = [
     "GP",
@@ -37,6 +37,7 @@ __all__ = [
     "scenarios",
     "strategies",
     "sweep",
+    "sweep_table5",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]

@@ -85,8 +85,9 @@ pub enum BenchCommand {
     /// with learned navigation, with Mann-Whitney U between each pair; writes DIR/compare.json
     /// and DIR/compare.md.
     Compare(CompareArgs),
-    /// Merge the shards of a comparison (`bench compare --shard K/N`, each in its own folder)
-    /// into the comparison the unsharded command writes: DIR/compare.json and DIR/compare.md.
+    /// Merge the shards of a comparison or of Table 5 (`bench compare --shard K/N`, `bench
+    /// table5 --shard K/N`, each in its own folder) into what the unsharded command writes:
+    /// DIR/compare.json and DIR/compare.md, or DIR/table5.json and DIR/table5.md.
     Merge(MergeArgs),
     /// Invariants at scale: seeded missions of every strategy on every built-in world it runs
     /// on (random world and mission seeds, a short time limit per world), each checked against
@@ -240,6 +241,10 @@ pub struct Table5Args {
     /// afresh and removes the trial files of earlier runs in DIR/trials.
     #[arg(long)]
     pub resume: bool,
+    /// Run only shard K of N (1-based): the trials whose index in the table's order is K − 1
+    /// modulo N, for batch schedulers; `strider bench merge` joins the shards' folders.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
 }
 
 #[derive(Args, Debug)]
@@ -282,7 +287,8 @@ pub struct CompareArgs {
 
 #[derive(Args, Debug)]
 pub struct MergeArgs {
-    /// The shards' output folders (each with its compare.json).
+    /// The shards' output folders (each with the compare.json of `bench compare --shard` or
+    /// the table5.json of `bench table5 --shard`).
     #[arg(required = true)]
     pub dirs: Vec<PathBuf>,
     /// Output directory (created if missing).

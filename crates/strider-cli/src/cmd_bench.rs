@@ -6,7 +6,7 @@ use strider_experiments::compare::{self, CompareOptions, Entrant};
 use strider_experiments::martin_corke::{self, ToursOptions};
 use strider_experiments::nardi19::{self, NavigateOptions};
 use strider_experiments::parallel::{available_jobs, threads};
-use strider_experiments::pragr22::{Table5Options, table5 as run_table5};
+use strider_experiments::pragr22::{self, Table5Options, table5 as run_table5};
 use strider_experiments::progress::Progress;
 use strider_explore::navigate::Objective;
 
@@ -27,6 +27,7 @@ pub fn table5(a: &Table5Args) -> Result<()> {
         mcap_dir: a.mcap_dir.clone(),
         resume: a.resume,
         cancel: interrupt::winds_down().clone(),
+        shard: a.shard.as_deref().map(compare::Shard::parse).transpose()?,
     };
     let bar = Bar::new("{spinner} table 5: {pos}/{len} trials ({elapsed}, eta {eta})");
     let t = run_table5(&o, &a.out, &bar)?;
@@ -65,6 +66,9 @@ fn table5_resume_command(a: &Table5Args, o: &Table5Options) -> String {
     }
     if let Some(d) = &o.mcap_dir {
         c.push_str(&format!(" --mcap-dir {}", d.display()));
+    }
+    if let Some(s) = o.shard {
+        c.push_str(&format!(" --shard {}/{}", s.k, s.n));
     }
     c.push_str(&format!(" --out {} --resume", a.out.display()));
     c
@@ -120,8 +124,14 @@ pub fn compare(a: &CompareArgs) -> Result<()> {
     Ok(())
 }
 
-/// `strider bench merge`: the shards of a comparison joined into the whole comparison.
+/// `strider bench merge`: the shards of a comparison or of Table 5 joined into the whole.
 pub fn merge(a: &MergeArgs) -> Result<()> {
+    if a.dirs
+        .first()
+        .is_some_and(|d| d.join("table5.json").is_file())
+    {
+        return merge_table5(a);
+    }
     let (result, command) = compare::merge(&a.dirs)?;
     compare::write(&a.out, &result, &command)?;
     print!("{}", compare::markdown(&result, &command));
@@ -130,6 +140,21 @@ pub fn merge(a: &MergeArgs) -> Result<()> {
         result.trials.len(),
         a.dirs.len(),
         a.out.join("compare.md").display()
+    );
+    Ok(())
+}
+
+/// `strider bench merge` of Table 5 shards.
+fn merge_table5(a: &MergeArgs) -> Result<()> {
+    let report = pragr22::merge_table5(&a.dirs)?;
+    let md = pragr22::markdown(&report);
+    pragr22::write_table5(&a.out, &report, &md)?;
+    print!("{md}");
+    println!(
+        "{} trials from {} shards -> {}",
+        report.trial_results.len(),
+        a.dirs.len(),
+        a.out.join("table5.md").display()
     );
     Ok(())
 }

@@ -68,6 +68,7 @@ fn a_bench_stopped_before_any_trial_finished_writes_nothing() {
         mcap_dir: None,
         resume: false,
         cancel,
+        shard: None,
     };
     let t = table5(&o, &out, &Silent).unwrap();
     assert_eq!((t.finished, t.total), (0, 6));

@@ -127,7 +127,9 @@ impl CostModel {
             .then(|| m.map.cell_at(x, y))
             .flatten()
         else {
-            return Err(msg(format!("measure: ({x}, {y}) is not a point of the map")));
+            return Err(msg(format!(
+                "measure: ({x}, {y}) is not a point of the map"
+            )));
         };
         match self.model.insert_measurement(cell, cost, &self.desc) {
             Ok(Insertion::Stored) => Ok(true),

@@ -6,8 +6,8 @@
 use strider_core::{Cell, GaitId, Point2};
 use strider_explore::planner::{CostMode, PlanningView, nearest_where};
 use strider_learn::cost_model::{CostModelParams, GaitCostModel};
-use strider_map::{ElevationMap, MapParams};
 use strider_map::rect::WorldRect;
+use strider_map::{ElevationMap, MapParams};
 use strider_plan::grid::Dijkstra;
 
 /// Flat (path-length) planning for a robot with `gaits` gaits.

@@ -38,6 +38,9 @@ fn _strider(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::compare_plan, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::compare_trial, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::compare_assemble, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::table5_plan, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::table5_trial, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::table5_assemble, m)?)?;
     m.add_class::<gp::Gp>()?;
     m.add_class::<rbcm::Rbcm>()?;
     m.add_class::<cost_model::CostModel>()?;

@@ -22,7 +22,9 @@ use std::time::Instant;
 use anyhow::{Result, bail};
 
 use super::table5_report::{Table5Report, markdown};
-use super::table5_trials::{Table5Options, kept, run_trials, setting, sort, tasks};
+use super::table5_trials::{
+    Table5Options, TrialResult, kept, run_task, run_trials, setting, sort, tasks,
+};
 use crate::cancel::Completion;
 use crate::io::{create_dir, write_json, write_text};
 use crate::journal::Journal;
@@ -71,12 +73,11 @@ pub fn table5(o: &Table5Options, out: &Path, progress: &dyn Progress) -> Result<
     let (finished, total) = (trials.len(), tasks.len());
     let json = out.join("table5.json");
     let md = out.join("table5.md");
-    let report = Table5Report::new(o, trials, wall, Completion::of(finished < total));
+    let wall_s = wall.elapsed().as_secs_f64();
+    let report = Table5Report::new(o, trials, wall_s, Completion::of(finished < total));
     let markdown = markdown(&report);
     if finished > 0 {
-        create_dir(out)?;
-        write_json(&json, &report)?;
-        write_text(&md, &markdown)?;
+        write(out, &report, &markdown)?;
     }
     Ok(Table5 {
         markdown,
@@ -86,6 +87,36 @@ pub fn table5(o: &Table5Options, out: &Path, progress: &dyn Progress) -> Result<
         total,
         trials_dir: journal.dir().to_path_buf(),
     })
+}
+
+/// The number of trials the table needs (its shard's, with `o.shard`): the pieces below let a
+/// distributed sweep run the table's trials as tasks of its own.
+pub fn trial_count(o: &Table5Options) -> Result<usize> {
+    check(o)?;
+    Ok(tasks(o).len())
+}
+
+/// Trial `index` (of [`trial_count`]) of the table's order, run on the calling thread.
+pub fn run_trial(o: &Table5Options, index: usize) -> Result<TrialResult> {
+    check(o)?;
+    let all = tasks(o);
+    let Some(task) = all.get(index) else {
+        bail!("trial {index}: the table has {} trials", all.len());
+    };
+    run_task(task, o)?.ok_or_else(|| anyhow::anyhow!("trial {index} was interrupted"))
+}
+
+/// The table of `trials` (every trial of [`trial_count`], in any order).
+pub fn assemble(o: &Table5Options, mut trials: Vec<TrialResult>, wall_s: f64) -> Table5Report {
+    sort(&mut trials);
+    Table5Report::new(o, trials, wall_s, Completion::of(false))
+}
+
+/// Writes `table5.json` and `table5.md` into `out`.
+pub fn write(out: &Path, report: &Table5Report, markdown: &str) -> Result<()> {
+    create_dir(out)?;
+    write_json(&out.join("table5.json"), report)?;
+    write_text(&out.join("table5.md"), markdown)
 }
 
 fn check(o: &Table5Options) -> Result<()> {

@@ -2,7 +2,6 @@
 //! reports with their tests, `table5.json` and `table5.md`.
 
 use std::fmt::Write as _;
-use std::time::Instant;
 
 use serde::Serialize;
 
@@ -202,7 +201,7 @@ impl Table5Report {
     pub(crate) fn new(
         o: &Table5Options,
         trials: Vec<TrialResult>,
-        wall: Instant,
+        wall_s: f64,
         completion: Completion,
     ) -> Self {
         let rows = rows(&trials);
@@ -221,7 +220,7 @@ impl Table5Report {
                 median_of_medians: (!medians.is_empty()).then(|| median_max(&medians).0),
                 max: max(&worst).unwrap_or(0.0).max(0.0),
             },
-            wall_s: wall.elapsed().as_secs_f64(),
+            wall_s,
             trial_results: trials,
         }
     }
@@ -246,6 +245,14 @@ pub fn markdown(r: &Table5Report) -> String {
         r.wall_s,
         o.jobs
     );
+    if let Some(s) = o.shard {
+        let _ = writeln!(
+            md,
+            "**Shard {}/{}** of the trials: `strider bench merge` joins the shards' folders into \
+             the whole table.\n",
+            s.k, s.n
+        );
+    }
     if r.completion.interrupted {
         let _ = writeln!(
             md,

@@ -11,6 +11,7 @@ use strider_explore::Strategy;
 use strider_explore::evaluate::NavigationMode;
 
 use crate::cancel::Cancel;
+use crate::compare::Shard;
 use crate::journal::{Journal, Kept};
 use crate::parallel::pool;
 use crate::progress::Progress;
@@ -41,6 +42,10 @@ pub struct Table5Options {
     /// Stops the bench early: running trials stop, finished ones are kept.
     #[serde(skip)]
     pub cancel: Cancel,
+    /// Run only this shard of the trials (`--shard K/N`); `strider bench merge` joins the
+    /// shards' folders into the whole table.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shard: Option<Shard>,
 }
 
 /// One experiment to run: a world, a strategy, a seed, and which tour modes to drive after.
@@ -81,8 +86,8 @@ impl TrialResult {
     }
 }
 
-/// Every trial of the table, longest first (large worlds), so the pool does not end on one
-/// long trial.
+/// Every trial of the table (of its shard, with `o.shard`), longest first (large worlds), so
+/// the pool does not end on one long trial.
 pub(crate) fn tasks(o: &Table5Options) -> Vec<Task> {
     let task = |scenario, strategy, i: usize, modes: &[NavigationMode]| Task {
         scenario,
@@ -112,7 +117,15 @@ pub(crate) fn tasks(o: &Table5Options) -> Vec<Task> {
         }
     }
     tasks.sort_by_key(|t| (t.scenario != "courtyard-large", t.seed));
-    tasks
+    match o.shard {
+        Some(s) => tasks
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| s.owns(*i))
+            .map(|(_, t)| t)
+            .collect(),
+        None => tasks,
+    }
 }
 
 impl Task {
@@ -201,7 +214,7 @@ pub(crate) fn sort(trials: &mut [TrialResult]) {
 }
 
 /// One trial; `None` when it was interrupted.
-fn run_task(task: &Task, o: &Table5Options) -> Result<Option<TrialResult>> {
+pub(crate) fn run_task(task: &Task, o: &Table5Options) -> Result<Option<TrialResult>> {
     let wall = Instant::now();
     let sc = load(task.scenario, task.world_seed)?;
     let mut params = mission_params(&sc, task.strategy, task.seed)?;

@@ -69,7 +69,11 @@ impl TourExplorer {
             let v = class
                 .and_then(|t| class_var.get(&t.0).copied())
                 .map_or(f32::NAN, |v| v as f32);
-            cost.push(if layers.observed[k] { plan[k] } else { f32::NAN });
+            cost.push(if layers.observed[k] {
+                plan[k]
+            } else {
+                f32::NAN
+            });
             variance.push(v);
             measured.push(md.cell_cost(c).map_or(f32::NAN, |cc| cc.cost as f32));
         }
