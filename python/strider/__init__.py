@@ -132,8 +132,10 @@ def run(
     sets = _sets(params)
 
     def work(d: str) -> Report:
-        text, layers = _strider.run(str(scenario), str(strategy), seed, world_seed, tl, sets, d)
-        return Report(json.loads(text), layers)
+        (text, large), layers = _strider.run(
+            str(scenario), str(strategy), seed, world_seed, tl, sets, d
+        )
+        return Report(json.loads(text), layers, lazy=dict(large))
 
     return _run_in(out, work)
 

@@ -3,6 +3,7 @@ numpy arrays."""
 
 from __future__ import annotations
 
+import json
 from typing import Any, Dict, Optional
 
 
@@ -18,19 +19,38 @@ class Report:
     lowest y, with ``cell_size`` (m) and ``origin`` (the world x, y of the lower-left corner).
     """
 
-    def __init__(self, fields: Dict[str, Any], layers: Optional[Dict[str, Any]]):
-        self.json = fields
+    def __init__(
+        self,
+        fields: Dict[str, Any],
+        layers: Optional[Dict[str, Any]],
+        lazy: Optional[Dict[str, str]] = None,
+    ):
+        self._fields = fields
+        # Large fields (a mission's tours) as JSON text, parsed when first read.
+        self._lazy = dict(lazy or {})
         self.layers = layers
+
+    def _field(self, name: str) -> Any:
+        if name in self._lazy:
+            self._fields[name] = json.loads(self._lazy.pop(name))
+        return self._fields[name]
+
+    @property
+    def json(self) -> Dict[str, Any]:
+        """The whole ``report.json`` as a dict."""
+        for name in list(self._lazy):
+            self._field(name)
+        return self._fields
 
     def __getattr__(self, name: str) -> Any:
         # Only called for names that are not ordinary attributes: the report's fields.
-        fields = self.__dict__.get("json", {})
-        if name in fields:
-            return fields[name]
+        d = self.__dict__
+        if name in d.get("_fields", {}) or name in d.get("_lazy", {}):
+            return self._field(name)
         raise AttributeError(f"the report has no field {name!r}")
 
     def __dir__(self):
-        return sorted(set(super().__dir__()) | set(self.json))
+        return sorted(set(super().__dir__()) | set(self._fields) | set(self._lazy))
 
     @property
     def cell_size(self) -> Optional[float]:
@@ -44,5 +64,5 @@ class Report:
 
     def __repr__(self) -> str:
         keys = ("scenario", "strategy", "seed", "termination", "exploration_time_s")
-        inner = ", ".join(f"{k}={self.json[k]!r}" for k in keys if k in self.json)
+        inner = ", ".join(f"{k}={self._fields[k]!r}" for k in keys if k in self._fields)
         return f"Report({inner})"

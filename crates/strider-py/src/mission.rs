@@ -69,8 +69,36 @@ pub fn scenario_layers<'py>(
     Ok(d)
 }
 
-/// `strider run`: one mission written to `out`; returns the report as JSON text and the final
-/// map and model layers.
+/// A top-level report field whose JSON is longer than this travels as its own text, parsed by
+/// the Python side only when it is read (a mission's tours are ~1 MB: 30 ms of `json.loads`
+/// that a caller reading `exploration_time_s` should not pay).
+const LAZY_FIELD_BYTES: usize = 64 * 1024;
+
+/// The report as JSON text without its large fields, and those fields' (name, JSON text).
+type SplitReport = (String, Vec<(String, String)>);
+
+fn split_report<T: serde::Serialize>(report: &T) -> PyResult<SplitReport> {
+    let bad = |e: serde_json::Error| msg(format!("cannot serialise the report: {e}"));
+    let mut v = serde_json::to_value(report).map_err(bad)?;
+    let mut lazy = Vec::new();
+    if let Some(fields) = v.as_object_mut() {
+        let mut large = Vec::new();
+        for (k, f) in fields.iter() {
+            let text = serde_json::to_string(f).map_err(bad)?;
+            if text.len() > LAZY_FIELD_BYTES {
+                large.push(k.clone());
+                lazy.push((k.clone(), text));
+            }
+        }
+        for k in large {
+            fields.remove(&k);
+        }
+    }
+    Ok((serde_json::to_string(&v).map_err(bad)?, lazy))
+}
+
+/// `strider run`: one mission written to `out`; returns the report as JSON text (large fields
+/// apart, as (name, JSON text) pairs) and the final map and model layers.
 #[pyfunction]
 #[pyo3(signature = (scenario, strategy, seed, world_seed, time_limit, sets, out))]
 #[allow(clippy::too_many_arguments)]
@@ -83,7 +111,7 @@ pub fn run<'py>(
     time_limit: Option<f64>,
     sets: Vec<(String, String)>,
     out: PathBuf,
-) -> PyResult<(String, Bound<'py, PyDict>)> {
+) -> PyResult<(SplitReport, Bound<'py, PyDict>)> {
     let cancel = Cancel::new();
     let req = RunRequest {
         scenario,
@@ -102,11 +130,10 @@ pub fn run<'py>(
         .detach(|| strider_experiments::run::run(&req, &Silent))
         .map_err(to_py)?;
     let (json, last) = match outcome {
-        RunOutcome::Tour(r) => (serde_json::to_string(&r.report), r.last),
-        RunOutcome::Rbcm(r) => (serde_json::to_string(&r.report), r.last),
-        RunOutcome::Escape(r) => (serde_json::to_string(&r.report), r.last),
+        RunOutcome::Tour(r) => (split_report(&r.report)?, r.last),
+        RunOutcome::Rbcm(r) => (split_report(&r.report)?, r.last),
+        RunOutcome::Escape(r) => (split_report(&r.report)?, r.last),
     };
-    let json = json.map_err(|e| msg(format!("cannot serialise the report: {e}")))?;
     let Some(layers) = last.layers else {
         return Err(msg("the mission's final state has no layers"));
     };
