@@ -1,6 +1,6 @@
 //! Where recorded messages go. A message is encoded once, by [`Writer`], and handed as bytes to
-//! a [`MessageSink`]: the MCAP file ([`crate::writer::McapFile`]), the live view
-//! ([`crate::live::LiveSink`]), or both through a [`Fanout`]. Every sink therefore carries the
+//! a [`MessageSink`]: the MCAP file (`writer::McapFile`), the live view (`live::LiveSink`), or
+//! both through a [`Fanout`]. Every sink therefore carries the
 //! same channels, schemas, stamps and payloads.
 //!
 //! A channel is described as MCAP and the Foxglove WebSocket protocol both describe it: a
