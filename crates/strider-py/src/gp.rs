@@ -3,7 +3,7 @@
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use strider_learn::gp::{
-    Gp as RustGp, GpParams, HyperBounds, Kernel, KernelKind, fit_hyperparameters,
+    Gp as RustGp, GpError, GpParams, HyperBounds, Kernel, KernelKind, fit_hyperparameters,
 };
 
 use strider_learn::gp_csv::MAX_TRAIN_ROWS;
@@ -56,6 +56,24 @@ pub(crate) fn rows(a: &PyReadonlyArray2<f64>, what: &str) -> PyResult<(Vec<f64>,
         return Err(msg(format!("{what}: every value must be finite")));
     }
     Ok((flat, n, d))
+}
+
+/// `predict` over the rows of `q`, which must have `dim` columns (`dim.1` names whose inputs):
+/// the mean and latent variance arrays.
+pub(crate) fn predict_rows<'py>(
+    py: Python<'py>,
+    q: &PyReadonlyArray2<'py, f64>,
+    dim: (usize, &str),
+    predict: impl FnOnce(&[f64], &mut [f64], &mut [f64]) -> Result<(), GpError> + Send,
+) -> PyResult<MeanVariance<'py>> {
+    let (qs, m, d) = rows(q, "Q")?;
+    if d != dim.0 {
+        return Err(msg(format!("Q has {d} columns, {} inputs {}", dim.1, dim.0)));
+    }
+    let (mut mean, mut var) = (vec![0.0; m], vec![0.0; m]);
+    py.detach(|| predict(&qs, &mut mean, &mut var))
+        .map_err(|e| msg(e.to_string()))?;
+    Ok((mean.into_pyarray(py), var.into_pyarray(py)))
 }
 
 /// GP hyperparameters from the Python keywords, each checked.
@@ -153,17 +171,9 @@ impl Gp {
         q: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<MeanVariance<'py>> {
         let gp = self.fitted()?;
-        let (qs, m, d) = rows(&q, "Q")?;
-        if d != gp.dim() {
-            return Err(msg(format!(
-                "Q has {d} columns, the GP's inputs {}",
-                gp.dim()
-            )));
-        }
-        let (mut mean, mut var) = (vec![0.0; m], vec![0.0; m]);
-        gp.predict_batch(&qs, &mut mean, &mut var)
-            .map_err(|e| msg(e.to_string()))?;
-        Ok((mean.into_pyarray(py), var.into_pyarray(py)))
+        predict_rows(py, &q, (gp.dim(), "the GP's"), |qs, mean, var| {
+            gp.predict_batch(qs, mean, var)
+        })
     }
 
     /// Adds one point `x` (d values) with target `y` (an incremental update of the factor).

@@ -1,14 +1,14 @@
 //! `strider.RBCM`: the robust Bayesian committee machine of GP experts (strider-learn's
 //! `Rbcm`, Prágr19's cost model).
 
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use strider_learn::gp::HyperBounds;
 use strider_learn::gp_csv::MAX_TRAIN_ROWS;
 use strider_learn::rbcm::{Rbcm as RustRbcm, RbcmParams, RbcmVariant};
 
 use crate::errors::msg;
-use crate::gp::{MeanVariance, gp_params, rows};
+use crate::gp::{MeanVariance, gp_params, predict_rows, rows};
 
 /// A committee of exact GP experts (Prágr19 Eq. 7–9).
 ///
@@ -114,17 +114,10 @@ impl Rbcm {
         py: Python<'py>,
         q: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<MeanVariance<'py>> {
-        let (qs, m, d) = rows(&q, "Q")?;
-        if d != self.rbcm.dim() {
-            return Err(msg(format!(
-                "Q has {d} columns, the committee's inputs {}",
-                self.rbcm.dim()
-            )));
-        }
-        let (mut mean, mut var) = (vec![0.0; m], vec![0.0; m]);
-        py.detach(|| self.rbcm.predict_batch(&qs, &mut mean, &mut var))
-            .map_err(|e| msg(e.to_string()))?;
-        Ok((mean.into_pyarray(py), var.into_pyarray(py)))
+        let rbcm = &self.rbcm;
+        predict_rows(py, &q, (rbcm.dim(), "the committee's"), |qs, mean, var| {
+            rbcm.predict_batch(qs, mean, var)
+        })
     }
 
     /// The number of training points.
