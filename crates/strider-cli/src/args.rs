@@ -95,6 +95,11 @@ pub enum BenchCommand {
     /// inside the world, missions that end, valid reports); writes DIR/soak.json and
     /// DIR/soak.md and fails when any invariant broke.
     Soak(SoakArgs),
+    /// Exploration at scale: one mission on a large world (default `campus`, 200 × 200 m)
+    /// sampled over simulated time: cells observed, real-time factor, replanning and new data
+    /// to new tour latency (median, p95, max) and peak memory; writes DIR/scale.json,
+    /// DIR/scale.md and DIR/scale.png (latency against cells observed).
+    Scale(ScaleArgs),
 }
 
 #[derive(Subcommand, Debug)]
@@ -520,6 +525,32 @@ pub struct LearnBenchArgs {
     pub jobs: Option<usize>,
     /// Output directory (created if missing).
     #[arg(long, short = 'o', default_value = "out/learn")]
+    pub out: PathBuf,
+}
+
+/// Arguments of `strider bench scale`.
+#[derive(Args, Debug)]
+pub struct ScaleArgs {
+    /// Built-in scenario name or scenario file.
+    #[arg(long, short = 's', default_value = "campus")]
+    pub scenario: String,
+    /// World seed of a built-in scenario.
+    #[arg(long, default_value_t = 1, value_parser = flags::seed)]
+    pub world_seed: u64,
+    /// Mission seed.
+    #[arg(long, default_value_t = 1, value_parser = flags::seed)]
+    pub seed: u64,
+    /// Exploration strategy: gtsp, greedy or spatial-only.
+    #[arg(long, default_value = "gtsp")]
+    pub strategy: String,
+    /// Override the scenario's mission time limit, simulated seconds; > 0 and ≤ 10⁶.
+    #[arg(long, value_name = "SECONDS", value_parser = flags::time_limit, allow_negative_numbers = true)]
+    pub time_limit: Option<f64>,
+    /// Sampling window, simulated seconds (1 to 10⁶).
+    #[arg(long, default_value_t = 600.0, allow_negative_numbers = true)]
+    pub window: f64,
+    /// Output directory (created if missing).
+    #[arg(long, short = 'o', default_value = "out/scale")]
     pub out: PathBuf,
 }
 

@@ -235,3 +235,23 @@ pub fn soak(a: &crate::args::SoakArgs) -> Result<()> {
     }
     Ok(())
 }
+
+/// `strider bench scale`: one exploration of a large world, sampled over time.
+pub fn scale(a: &crate::args::ScaleArgs) -> Result<()> {
+    use strider_experiments::scale::{self, ScaleOptions};
+    let o = ScaleOptions {
+        scenario: a.scenario.clone(),
+        world_seed: a.world_seed,
+        seed: a.seed,
+        strategy: a.strategy.clone(),
+        time_limit: a.time_limit,
+        window_s: a.window,
+        cancel: interrupt::winds_down().clone(),
+    };
+    let bar = Bar::new("{spinner} scale: {pos}/{len} simulated s ({elapsed}) {msg}");
+    let r = scale::scale(&o, &a.out, &bar)?;
+    drop(bar);
+    print!("{}", scale::markdown(&r));
+    println!("-> {}", a.out.join("scale.md").display());
+    Ok(())
+}

@@ -98,6 +98,7 @@ fn dispatch(command: Command) -> Result<()> {
         Command::Bench(BenchCommand::Compare(a)) => cmd_bench::compare(&a),
         Command::Bench(BenchCommand::Merge(a)) => cmd_bench::merge(&a),
         Command::Bench(BenchCommand::Soak(a)) => cmd_bench::soak(&a),
+        Command::Bench(BenchCommand::Scale(a)) => cmd_bench::scale(&a),
         Command::Scenario(ScenarioCommand::List) => cmd_scenario::list(),
         Command::Scenario(ScenarioCommand::Render(a)) => cmd_scenario::render(&a),
         Command::Scenario(ScenarioCommand::Export(a)) => cmd_scenario::export(&a),

@@ -24,6 +24,7 @@ pub fn of(command: &Command) -> Vec<PathBuf> {
         Command::Bench(BenchCommand::Compare(a)) => vec![a.out.as_path()],
         Command::Bench(BenchCommand::Merge(a)) => vec![a.out.as_path()],
         Command::Bench(BenchCommand::Soak(a)) => vec![a.out.as_path()],
+        Command::Bench(BenchCommand::Scale(a)) => vec![a.out.as_path()],
         Command::Scenario(ScenarioCommand::Render(a)) => vec![a.out.as_path()],
         Command::Scenario(ScenarioCommand::Export(a)) => vec![a.out.as_path()],
         Command::Map(MapCommand::Build(a)) => vec![a.out.as_path()],

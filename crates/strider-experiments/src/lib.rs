@@ -26,7 +26,8 @@
 //! [`stats`] (one definition of each statistic), [`report`] and [`render`] (the HTML report and
 //! the figures), [`scenario_figures`], [`gtsp`] (a GTSPLIB instance solved and checked), [`io`], [`parallel`], [`progress`] and [`cancel`] (stopping
 //! early on Ctrl-C without losing what was done). [`soak`] runs every strategy on many worlds and
-//! checks the invariants every mission must keep.
+//! checks the invariants every mission must keep; [`scale`] samples one exploration of a large
+//! world over time (latencies against the area explored).
 
 pub mod cancel;
 pub mod compare;
@@ -49,6 +50,7 @@ pub mod render;
 pub mod replay;
 pub mod report;
 pub mod run;
+pub mod scale;
 pub mod scenario_figures;
 pub mod soak;
 pub mod stats;

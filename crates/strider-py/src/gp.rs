@@ -68,7 +68,10 @@ pub(crate) fn predict_rows<'py>(
 ) -> PyResult<MeanVariance<'py>> {
     let (qs, m, d) = rows(q, "Q")?;
     if d != dim.0 {
-        return Err(msg(format!("Q has {d} columns, {} inputs {}", dim.1, dim.0)));
+        return Err(msg(format!(
+            "Q has {d} columns, {} inputs {}",
+            dim.1, dim.0
+        )));
     }
     let (mut mean, mut var) = (vec![0.0; m], vec![0.0; m]);
     py.detach(|| predict(&qs, &mut mean, &mut var))

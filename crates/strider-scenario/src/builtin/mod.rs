@@ -15,6 +15,7 @@
 
 mod bonn_paths;
 mod builder;
+mod campus;
 mod canvas;
 mod cot_track;
 mod courtyard;
@@ -38,7 +39,7 @@ struct Entry {
     generate: fn(u64) -> Result<Scenario, ScenarioError>,
 }
 
-const ENTRIES: [Entry; 8] = [
+const ENTRIES: [Entry; 9] = [
     Entry {
         name: "courtyard-small",
         description: courtyard_small::DESCRIPTION,
@@ -79,9 +80,14 @@ const ENTRIES: [Entry; 8] = [
         description: cot_track::DESCRIPTION,
         generate: cot_track::generate,
     },
+    Entry {
+        name: "campus",
+        description: campus::DESCRIPTION,
+        generate: campus::generate,
+    },
 ];
 
-const NAMES: [&str; 8] = [
+const NAMES: [&str; 9] = [
     ENTRIES[0].name,
     ENTRIES[1].name,
     ENTRIES[2].name,
@@ -90,6 +96,7 @@ const NAMES: [&str; 8] = [
     ENTRIES[5].name,
     ENTRIES[6].name,
     ENTRIES[7].name,
+    ENTRIES[8].name,
 ];
 
 /// Names of the built-in scenarios.
