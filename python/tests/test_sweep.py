@@ -17,11 +17,14 @@ def cli_args(o):
             "--time-limit", o["time_limit"], "--jobs", 1]
 
 
-def without_wall_time(c):
-    c = json.loads(json.dumps(c))
-    for t in c["trials"]:
-        t.pop("wall_s")
-    return c
+def without_timing(v):
+    """Drops what measures the computer: wall times, latencies, the job count."""
+    if isinstance(v, dict):
+        return {k: without_timing(x) for k, x in v.items()
+                if "wall" not in k and "_ms" not in k and k != "jobs"}
+    if isinstance(v, list):
+        return [without_timing(x) for x in v]
+    return v
 
 
 @pytest.fixture(scope="module")
@@ -43,14 +46,14 @@ def test_merged_shards_equal_the_unsharded_bench(unsharded, strider_cli, tmp_pat
         dirs.append(d)
     strider_cli("bench", "merge", *reversed(dirs), "--out", tmp_path / "merged")
     merged = json.loads((tmp_path / "merged" / "compare.json").read_text())
-    assert without_wall_time(merged) == without_wall_time(unsharded)
+    assert without_timing(merged) == without_timing(unsharded)
     md = (tmp_path / "merged" / "compare.md").read_text()
     assert "strider bench compare --scenarios courtyard-small --strategies gtsp,greedy" in md
 
 
 def test_local_sweep_equals_the_bench(unsharded):
     c = strider.sweep(**OPTS, local=True)
-    assert without_wall_time(c) == without_wall_time(unsharded)
+    assert without_timing(c) == without_timing(unsharded)
 
 
 def test_ray_sweep_equals_the_bench(unsharded):
@@ -60,7 +63,7 @@ def test_ray_sweep_equals_the_bench(unsharded):
         c = strider.sweep(**OPTS)
     finally:
         ray.shutdown()
-    assert without_wall_time(c) == without_wall_time(unsharded)
+    assert without_timing(c) == without_timing(unsharded)
 
 
 def test_bad_sweep_options_are_value_errors():
@@ -79,16 +82,6 @@ T5 = dict(trials=2, large_trials=0, world_seeds=1, time_limit=10)
 def t5_args(o):
     return ["--trials", o["trials"], "--large-trials", o["large_trials"],
             "--world-seeds", o["world_seeds"], "--time-limit", o["time_limit"], "--jobs", 1]
-
-
-def without_timing(v):
-    """Drops what measures the computer: wall times, latencies, the job count."""
-    if isinstance(v, dict):
-        return {k: without_timing(x) for k, x in v.items()
-                if "wall" not in k and "_ms" not in k and k != "jobs"}
-    if isinstance(v, list):
-        return [without_timing(x) for x in v]
-    return v
 
 
 @pytest.fixture(scope="module")
