@@ -13,28 +13,22 @@
 //! * one closed counter-clockwise tour of 8 waypoints on the rectangle 15 m inside the border.
 
 use rand::{RngExt, rngs::ChaCha8Rng};
-use strider_core::{Point2, Rgb8};
-use strider_map::MapParams;
+use strider_core::Point2;
 
 use super::builder::{self, Frame, Layout, ScenarioBuilder};
 use super::canvas::{Canvas, Rect};
-use super::courtyard::{self, BROWN, BROWN_TURF, GRAY, GREEN, GREEN_TURF, RED};
+use super::courtyard::{self, BROWN_TURF, GRAY, GREEN_TURF, RED};
+use super::courtyard_large::{self, BOX, WALL};
 use super::draw::{uni, wobble};
 use super::placement::{connected_from, snap};
-use super::terrains::{Look, TerrainTable};
 use crate::error::ScenarioError;
-use crate::model::{Scenario, SimParams, World};
+use crate::model::{Scenario, World};
 use crate::profiles;
 
 pub(super) const DESCRIPTION: &str = "Exploration at scale: 200×200 m at 0.10 m (4 M cells), \
 lawns of green and brown-green turf, red squares and gray footpaths, 8–12 buildings with doors, \
 boxes; hexapod-large with a 10 m omnidirectional sensor, Prágr22 Table 3 right column; one \
 counter-clockwise tour of 8 waypoints.";
-
-/// Walls.
-pub const WALL: u8 = 4;
-/// Boxes.
-pub const BOX: u8 = 5;
 
 const W: f64 = 200.0;
 const H: f64 = 200.0;
@@ -47,8 +41,6 @@ const BORDER_Z: f32 = 0.5;
 const CLEAR: f64 = 1.3;
 /// Clearance of buildings from each other and from the border.
 const BUILDING_GAP: f64 = 6.0;
-/// Range noise of the 10 m omnidirectional sensor (as in courtyard-large).
-const OMNI_SIGMA: f64 = 0.01;
 
 pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
     let frame = Frame::new(W, H, RES, GRAY);
@@ -59,24 +51,10 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
         frame,
         profiles::hexapod_large(),
     )
-    .map(|m| MapParams {
-        sigma_d: OMNI_SIGMA,
-        k_d: 0.0,
-        r_sensor: 10.0,
-        c_radius: 2.0,
-        c_min_cells: 10,
-        rho_obstacle: 0.25,
-        r_hist: 0.30,
-        sensor_height: 0.5,
-        ..m
-    })
-    .sim(SimParams {
-        depth_sigma: OMNI_SIGMA,
-        depth_k: 0.0,
-        ..SimParams::default()
-    })
+    .map(courtyard_large::map_params)
+    .sim(courtyard_large::sim_params())
     .strategy(&courtyard::STRATEGIES, courtyard::table3(true))
-    .terrains(terrains())
+    .terrains(courtyard_large::terrains())
     .time_limit(200_000.0)
     .generate("no connected layout found", |a| {
         let mut c = a.canvas();
@@ -100,13 +78,6 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
             tours: vec![builder::tour("benchmark", tour, true)],
         })
     })
-}
-
-fn terrains() -> TerrainTable {
-    let brown_green = Look::mixed(&[BROWN, GREEN], 8.0, 0.004);
-    courtyard::terrains(0.004, ("brown-green turf", brown_green))
-        .obstacle(WALL, "wall", Look::new(Rgb8::new(235, 235, 235), 4.0, 0.0))
-        .obstacle(BOX, "box", Look::new(Rgb8::new(200, 170, 100), 8.0, 0.0))
 }
 
 /// Lawns (40–60 turf blobs of 4–14 m), 15–25 red squares of 2–6 m, then 4–7 straight 3 m

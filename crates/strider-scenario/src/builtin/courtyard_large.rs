@@ -47,7 +47,8 @@ const CLEAR: f64 = 1.3;
 /// long-range omnidirectional scanner.
 const OMNI_SIGMA: f64 = 0.01;
 
-fn sim_params() -> SimParams {
+/// The simulator's noise for the 10 m omnidirectional sensor (also `campus`'s).
+pub(super) fn sim_params() -> SimParams {
     SimParams {
         depth_sigma: OMNI_SIGMA,
         depth_k: 0.0,
@@ -64,18 +65,7 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
         frame,
         profiles::hexapod_large(),
     )
-    // Prágr22 Table 3, right column.
-    .map(|m| MapParams {
-        sigma_d: OMNI_SIGMA,
-        k_d: 0.0,
-        r_sensor: 10.0,
-        c_radius: 2.0,
-        c_min_cells: 10,
-        rho_obstacle: 0.25,
-        r_hist: 0.30,
-        sensor_height: 0.5,
-        ..m
-    })
+    .map(map_params)
     .sim(sim_params())
     .strategy(&courtyard::STRATEGIES, courtyard::table3(true))
     .terrains(terrains())
@@ -102,7 +92,23 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
     })
 }
 
-fn terrains() -> TerrainTable {
+/// Prágr22 Table 3, right column: the map of the 10 m omnidirectional sensor (also `campus`'s).
+pub(super) fn map_params(m: MapParams) -> MapParams {
+    MapParams {
+        sigma_d: OMNI_SIGMA,
+        k_d: 0.0,
+        r_sensor: 10.0,
+        c_radius: 2.0,
+        c_min_cells: 10,
+        rho_obstacle: 0.25,
+        r_hist: 0.30,
+        sensor_height: 0.5,
+        ..m
+    }
+}
+
+/// Pavement, the two turfs, walls and boxes (also `campus`'s).
+pub(super) fn terrains() -> TerrainTable {
     let brown_green = Look::mixed(&[BROWN, GREEN], 8.0, 0.004);
     courtyard::terrains(0.004, ("brown-green turf", brown_green))
         .obstacle(WALL, "wall", Look::new(Rgb8::new(235, 235, 235), 4.0, 0.0))
