@@ -22,7 +22,7 @@
 
 use strider_core::{Cell, CellRect};
 use strider_map::ElevationMap;
-use strider_map::descriptors::Raster;
+use strider_map::descriptors::{Raster, TA_BINS, color_histograms, histogram_reach};
 use strider_map::rect;
 
 /// Alignment of the storage rectangle, in cells.
@@ -103,6 +103,26 @@ impl DescriptorField {
         let mut f = Self::empty(r.rect, N);
         f.write_raster(r);
         f
+    }
+
+    /// The field of ta(ν) colour histograms (Prágr22 §4.2) brought up to date with `map` over
+    /// its known bounds: only what the map's changes since revision `*seen` can have touched is
+    /// recomputed, and `*seen` becomes the map's revision. Returns the bounds; `None` (and
+    /// nothing done) while the map is empty.
+    pub fn follow_color_histograms(
+        &mut self,
+        map: &ElevationMap,
+        seen: &mut u64,
+    ) -> Option<CellRect> {
+        let rect = map.known_bounds()?;
+        let r_hist = map.params().r_hist;
+        let changed = map.changes().changed_since(*seen);
+        let reach = histogram_reach(r_hist, map.cell_size());
+        self.refresh::<TA_BINS>(map, rect, &changed, reach, |m, r| {
+            color_histograms(m, r, r_hist)
+        });
+        *seen = map.changes().revision();
+        Some(rect)
     }
 
     /// Brings the field up to date with `map` over `rect` (the map's known bounds):

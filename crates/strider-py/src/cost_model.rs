@@ -9,7 +9,7 @@ use strider_explore::kernel::map_layers;
 use strider_learn::cost_model::{CostModelParams, GaitCostModel, Insertion, ModelUpdate};
 use strider_learn::descriptor_field::DescriptorField;
 use strider_map::ElevationMap as RustMap;
-use strider_map::descriptors::{TA_BINS, color_histograms, histogram_reach};
+use strider_map::descriptors::TA_BINS;
 
 use crate::errors::msg;
 use crate::gp::{MeanVariance, gp_params, rows};
@@ -36,15 +36,7 @@ pub struct CostModel {
 impl CostModel {
     /// Brings the descriptors up to date with the map's changes since the last call.
     fn sync(&mut self, map: &RustMap) -> Option<CellRect> {
-        let rect = map.known_bounds()?;
-        let r_hist = map.params().r_hist;
-        let changed = map.changes().changed_since(self.revision);
-        let reach = histogram_reach(r_hist, map.cell_size());
-        self.desc.refresh(map, rect, &changed, reach, |m, r| {
-            color_histograms(m, r, r_hist)
-        });
-        self.revision = map.changes().revision();
-        Some(rect)
+        self.desc.follow_color_histograms(map, &mut self.revision)
     }
 }
 

@@ -7,7 +7,6 @@ use crate::timing::ms_since;
 use rayon::prelude::*;
 use std::time::Instant;
 use strider_map::cluster_information;
-use strider_map::descriptors::{color_histograms, histogram_reach};
 use strider_map::reachability::Reachability;
 
 impl TourExplorer {
@@ -58,18 +57,15 @@ impl TourExplorer {
         let w = Instant::now();
         body.map_mut().update_passability();
         let map = body.map();
-        let Some(rect) = map.known_bounds() else {
-            return;
-        };
         // Only the histograms the map's changes can have touched are recomputed; the field
-        // equals a full computation over `rect`.
-        let r_hist = map.params().r_hist;
-        let changed = map.changes().changed_since(self.desc_revision);
-        let reach = histogram_reach(r_hist, map.cell_size());
-        self.desc.refresh(map, rect, &changed, reach, |m, r| {
-            color_histograms(m, r, r_hist)
-        });
-        self.desc_revision = map.changes().revision();
+        // equals a full computation over the known bounds.
+        if self
+            .desc
+            .follow_color_histograms(map, &mut self.desc_revision)
+            .is_none()
+        {
+            return;
+        }
         self.cost_goals.clear();
         // The gaits' models are independent: update them side by side.
         let desc = &self.desc;
