@@ -426,6 +426,10 @@ pub struct ToursArgs {
     /// Seed of the procedural world family (built-ins only; 1 is the reference world).
     #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub world_seed: u64,
+    /// Run this many world seeds (world-seed, world-seed + 1, …), each with every noise seed,
+    /// and pool the runs into `worlds.{json,md}`; 1 to 1000, at most 10000 runs in all.
+    #[arg(long, default_value_t = 1, value_parser = flags::tour_worlds, allow_negative_numbers = true)]
+    pub world_seeds: u64,
     /// Seed of the simulator's noise.
     #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub seed: u64,

@@ -139,6 +139,7 @@ pub fn tours(a: &ToursArgs) -> Result<()> {
     let lines = martin_corke::tours(&ToursOptions {
         scenario: a.scenario.clone(),
         world_seed: a.world_seed,
+        world_seeds: a.world_seeds,
         seed: a.seed,
         seeds: a.seeds,
         tours: a.tours,
