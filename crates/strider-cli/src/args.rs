@@ -473,6 +473,11 @@ pub struct NavigateArgs {
     /// λ of the lower confidence bound μ − λσ (decision 26); 0 to 100.
     #[arg(long, default_value_t = 1.0, value_parser = flags::lambda, allow_negative_numbers = true)]
     pub lambda: f64,
+    /// Run the whole experiment once per λ in this comma-separated list (e.g. `0.5,1,2,3`,
+    /// decision 29) into `DIR/lambda-X/`, and compare softplus with ReLU over λ in
+    /// `DIR/lambdas.md`; replaces `--lambda`.
+    #[arg(long, conflicts_with = "lambda")]
+    pub lambdas: Option<String>,
     /// An aerial image (8-bit RGB PNG, north up, one pixel per grid cell) replacing the
     /// scenario's colour layer.
     #[arg(long)]
