@@ -38,6 +38,8 @@ keep() {
 
 run tours tours
 keep martin-corke tours/tours.md
+run tours-worlds tours --world-seeds 10 --seeds 10
+cp "$out/tours-worlds/worlds.md" docs/results/martin-corke/tours-worlds.md
 run c4 learn c4-vegetation
 keep pragr23 c4/c4_vegetation.md
 run learn learn bench --reps "$reps"

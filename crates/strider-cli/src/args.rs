@@ -437,6 +437,10 @@ pub struct ToursArgs {
     /// Seed of the procedural world family (built-ins only; 1 is the reference world).
     #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub world_seed: u64,
+    /// Run this many world seeds (world-seed, world-seed + 1, …), each with every noise seed,
+    /// and pool the runs into `worlds.{json,md}`; 1 to 1000, at most 10000 runs in all.
+    #[arg(long, default_value_t = 1, value_parser = flags::tour_worlds, allow_negative_numbers = true)]
+    pub world_seeds: u64,
     /// Seed of the simulator's noise.
     #[arg(long, value_parser = flags::seed, allow_negative_numbers = true, default_value_t = 1)]
     pub seed: u64,
@@ -480,6 +484,11 @@ pub struct NavigateArgs {
     /// λ of the lower confidence bound μ − λσ (decision 26); 0 to 100.
     #[arg(long, default_value_t = 1.0, value_parser = flags::lambda, allow_negative_numbers = true)]
     pub lambda: f64,
+    /// Run the whole experiment once per λ in this comma-separated list (e.g. `0.5,1,2,3`,
+    /// decision 29) into `DIR/lambda-X/`, and compare softplus with ReLU over λ in
+    /// `DIR/lambdas.md`; replaces `--lambda`.
+    #[arg(long, conflicts_with = "lambda")]
+    pub lambdas: Option<String>,
     /// An aerial image (8-bit RGB PNG, north up, one pixel per grid cell) replacing the
     /// scenario's colour layer.
     #[arg(long)]

@@ -164,6 +164,7 @@ pub fn tours(a: &ToursArgs) -> Result<()> {
     let lines = martin_corke::tours(&ToursOptions {
         scenario: a.scenario.clone(),
         world_seed: a.world_seed,
+        world_seeds: a.world_seeds,
         seed: a.seed,
         seeds: a.seeds,
         tours: a.tours,
@@ -190,6 +191,16 @@ pub fn navigate(a: &NavigateArgs) -> Result<()> {
         jobs: threads(a.jobs.unwrap_or_else(available_jobs)),
     };
     let bar = Bar::new("{bar:30} {pos}/{len} runs ({elapsed}) {msg}");
+    if let Some(list) = &a.lambdas {
+        let lambdas = parse_list(list, "--lambdas", |s| s.parse::<f64>().ok())?;
+        let done = nardi19::sweep_lambdas(&o, &lambdas, &bar)?;
+        drop(bar);
+        for d in done {
+            println!("{d}");
+        }
+        println!("wrote {}", a.out.join("lambdas.md").display());
+        return Ok(());
+    }
     let done = nardi19::run(&o, &bar)?;
     drop(bar);
     println!("{done}");

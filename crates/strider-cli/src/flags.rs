@@ -11,6 +11,7 @@
 //! | `--world-seeds` (bench) | 1 ..= 10⁶ |
 //! | `--jobs` | 1 ..= 256; more than the CPUs run one thread per CPU |
 //! | `--seeds` (tours) | 1 ..= 1000 |
+//! | `--world-seeds` (tours) | 1 ..= 1000 (and at most 10 000 runs) |
 //! | `--tours` | 1 ..= 10 000 |
 //! | `--seeds` (navigate) | 1 ..= 1000 |
 //! | `--runs` (navigate) | 1 ..= 1000 |
@@ -92,6 +93,11 @@ pub fn jobs(s: &str) -> Result<usize, String> {
 /// `--seeds` of `strider tours`.
 pub fn tour_seeds(s: &str) -> Result<u64, String> {
     int_in(s, 1, martin_corke::MAX_SEEDS)
+}
+
+/// `--world-seeds` of `strider tours`.
+pub fn tour_worlds(s: &str) -> Result<u64, String> {
+    int_in(s, 1, martin_corke::MAX_WORLDS)
 }
 
 /// `--tours` of `strider tours`.

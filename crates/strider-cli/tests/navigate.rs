@@ -105,3 +105,49 @@ fn navigate_rejects_bad_input() {
     let e = one_line_error(&strider(&["navigate", "--scenario", "nowhere", "--out", o]));
     assert!(e.contains("nowhere"), "{e}");
 }
+
+#[test]
+fn a_lambda_sweep_writes_one_table_and_a_run_per_lambda() {
+    let out = temp_dir("nav", "lambdas");
+    let o = strider(&[
+        "navigate",
+        "--runs",
+        "1",
+        "--objectives",
+        "vibration",
+        "--lambdas",
+        "0.5,3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for l in ["0.5", "3"] {
+        let md = std::fs::read_to_string(out.join(format!("lambda-{l}/navigate.md"))).unwrap();
+        assert!(md.contains(&format!("--lambda {l}")), "{md}");
+    }
+    let sweep: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("lambdas.json")).unwrap()).unwrap();
+    let rows = sweep["rows"].as_array().unwrap();
+    // One start-goal objective on one site, per λ.
+    assert_eq!(rows.len(), 2);
+    assert_eq!(rows[0]["lambda"].as_f64(), Some(0.5));
+    assert_eq!(rows[1]["lambda"].as_f64(), Some(3.0));
+    for r in rows {
+        assert!(r["relu"]["visited_cells"].as_f64().unwrap() > 0.0);
+        assert!(r["softplus_converges_sooner"].is_boolean());
+    }
+    let md = std::fs::read_to_string(out.join("lambdas.md")).unwrap();
+    assert!(
+        md.contains("--lambdas 0.5,3") && md.contains("| 3 | 1 | vibration |"),
+        "{md}"
+    );
+    // A bad λ in the list is refused before any run.
+    let e = one_line_error(&strider(&[
+        "navigate",
+        "--lambdas",
+        "1,-2",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    assert!(e.contains("--lambdas -2"), "{e}");
+}

@@ -25,9 +25,10 @@
 mod figures;
 mod metrics;
 mod report;
+mod worlds;
 
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
@@ -45,6 +46,7 @@ use crate::io::create_dir;
 use crate::trial::{load, section};
 pub use metrics::SeedFigures;
 pub use report::{SummaryReport, ToursReport};
+pub use worlds::WorldsReport;
 
 /// MartinCorke's published figures.
 pub(crate) const PUBLISHED_FIRST_J: f64 = 28.7;
@@ -66,6 +68,11 @@ pub(crate) const OVERTAKE_BEFORE: usize = 10;
 /// from queueing (and allocating for) billions of runs.
 pub const MAX_SEEDS: u64 = 1000;
 
+/// The most world seeds `strider tours` runs (`--world-seeds`), and the most runs (world seeds
+/// × noise seeds) in one call: 100 × 100 runs is far beyond the acceptance sweep (10 × 10).
+pub const MAX_WORLDS: u64 = 1000;
+pub const MAX_RUNS: u64 = 10_000;
+
 /// The most tours per series (`--tours`, `n_tours`): MartinCorke drives 25; every tour is a
 /// drive of the whole route and a GP refit, and the series is held in memory.
 pub const MAX_TOURS: usize = 10_000;
@@ -75,8 +82,10 @@ pub const MAX_TOURS: usize = 10_000;
 pub struct ToursOptions {
     /// Built-in scenario name or scenario file.
     pub scenario: String,
-    /// World seed.
+    /// First world seed.
     pub world_seed: u64,
+    /// World seeds (world_seed, world_seed + 1, …).
+    pub world_seeds: u64,
     /// First noise seed.
     pub seed: u64,
     /// Noise seeds (seed, seed + 1, …).
@@ -88,20 +97,41 @@ pub struct ToursOptions {
 }
 
 impl ToursOptions {
-    /// The command that reproduces the tours of noise seed `seed` (`None`: of every seed).
-    pub fn command(&self, seed: Option<u64>) -> String {
-        let seeds = match seed {
-            Some(_) => String::new(),
-            None => format!(" --seeds {}", self.seeds),
+    /// The command that reproduces the tours of world `world` and noise seed `seed` (`None`:
+    /// of every world and seed).
+    pub fn command(&self, run: Option<(u64, u64)>) -> String {
+        let tours = self
+            .tours
+            .map_or(String::new(), |n| format!(" --tours {n}"));
+        let (world, seed, counts) = match run {
+            Some((w, s)) => (w, s, String::new()),
+            None => {
+                let worlds = if self.world_seeds > 1 {
+                    format!(" --world-seeds {}", self.world_seeds)
+                } else {
+                    String::new()
+                };
+                (
+                    self.world_seed,
+                    self.seed,
+                    format!("{worlds} --seeds {}", self.seeds),
+                )
+            }
         };
+        format!(
+            "strider tours --scenario {} --world-seed {world} --seed {seed}{counts}{tours}",
+            self.scenario
+        )
+    }
+
+    /// The command that reproduces world `world`'s tours (every noise seed).
+    fn world_command(&self, world: u64) -> String {
         let tours = self
             .tours
             .map_or(String::new(), |n| format!(" --tours {n}"));
         format!(
-            "strider tours --scenario {} --world-seed {} --seed {}{seeds}{tours}",
-            self.scenario,
-            self.world_seed,
-            seed.unwrap_or(self.seed)
+            "strider tours --scenario {} --world-seed {world} --seed {} --seeds {}{tours}",
+            self.scenario, self.seed, self.seeds
         )
     }
 }
@@ -269,42 +299,125 @@ impl fmt::Display for SeedLine {
     }
 }
 
-/// Runs `strider tours`; returns one line per seed.
-pub fn tours(o: &ToursOptions) -> Result<Vec<SeedLine>> {
-    crate::trial::check_seed_range(o.seed, o.seeds, MAX_SEEDS)?;
-    let sc = load(&o.scenario, o.world_seed)?;
+/// One world of the call: its scenario and loop parameters.
+struct WorldTask {
+    sc: Scenario,
+    p: EnergyTourParams,
+}
+
+fn world_task(o: &ToursOptions, world_seed: u64) -> Result<WorldTask> {
+    let sc = load(&o.scenario, world_seed)?;
     let p = tour_params(&sc, o.tours).with_context(|| format!("scenario {}", sc.name))?;
     // Bad waypoints are reported before any simulation.
     TourPlanner::new(&p)
         .with_context(|| format!("scenario {}, tour {}", sc.name, sc.tours[0].name))?;
+    Ok(WorldTask { sc, p })
+}
+
+/// Checks `--world-seed W --world-seeds K` and the number of runs.
+fn check_worlds(o: &ToursOptions) -> Result<()> {
+    if !(1..=MAX_WORLDS).contains(&o.world_seeds) {
+        bail!(
+            "--world-seeds {}: must be an integer from 1 to {MAX_WORLDS}",
+            o.world_seeds
+        );
+    }
+    if o.world_seed.checked_add(o.world_seeds - 1).is_none() {
+        bail!(
+            "--world-seed {} with --world-seeds {}: the last world seed would pass {}",
+            o.world_seed,
+            o.world_seeds,
+            u64::MAX
+        );
+    }
+    if o.world_seeds.saturating_mul(o.seeds) > MAX_RUNS {
+        bail!(
+            "--world-seeds {} × --seeds {}: at most {MAX_RUNS} runs in one call",
+            o.world_seeds,
+            o.seeds
+        );
+    }
+    Ok(())
+}
+
+/// Runs `strider tours`; returns one line per world and seed. With several world seeds each
+/// world goes to `DIR/world-W/` and `DIR/worlds.{json,md}` pools every run.
+pub fn tours(o: &ToursOptions) -> Result<Vec<SeedLine>> {
+    crate::trial::check_seed_range(o.seed, o.seeds, MAX_SEEDS)?;
+    check_worlds(o)?;
+    let worlds: Vec<WorldTask> = (0..o.world_seeds)
+        .map(|i| world_task(o, o.world_seed + i))
+        .collect::<Result<_>>()?;
     create_dir(&o.out)?;
-    let seeds: Vec<u64> = (0..o.seeds).map(|i| o.seed + i).collect();
-    let runs: Vec<SeedRun> = seeds
+    let jobs: Vec<(usize, u64)> = (0..worlds.len())
+        .flat_map(|w| (0..o.seeds).map(move |i| (w, o.seed + i)))
+        .collect();
+    // One flat list, so that a few slow worlds do not leave cores idle.
+    let runs: Vec<SeedRun> = jobs
         .par_iter()
-        .map(|&s| run_seed(&sc, &p, s))
+        .map(|&(w, s)| run_seed(&worlds[w].sc, &worlds[w].p, s))
         .collect::<Result<_>>()?;
     let mut lines = Vec::new();
-    for r in &runs {
-        let dir = if runs.len() == 1 {
+    let per_world = o.seeds as usize;
+    for (w, task) in worlds.iter().enumerate() {
+        let dir = if worlds.len() == 1 {
             o.out.clone()
         } else {
-            o.out.join(format!("seed-{}", r.seed))
+            o.out.join(format!("world-{}", task.sc.world_seed))
         };
-        create_dir(&dir)?;
+        let these = &runs[w * per_world..(w + 1) * per_world];
+        lines.extend(write_world(o, task, these, &dir)?);
+    }
+    if worlds.len() > 1 {
+        let pooled: Vec<worlds::WorldRun<'_>> = lines
+            .iter()
+            .zip(&runs)
+            .map(|(l, r)| worlds::WorldRun {
+                world: l.world_seed,
+                seed: l.seed,
+                figures: &l.figures,
+                shortest_m: r.shortest.first().map_or(f64::NAN, |t| t.plan.length_m),
+                known_m: r.known_plan.length_m,
+            })
+            .collect();
+        worlds::write(&worlds[0].sc.name, &o.out, &pooled, &o.command(None))?;
+    }
+    Ok(lines)
+}
+
+/// Writes one world's reports and figures into `dir` (per seed into `dir/seed-N/` when there
+/// are several, with `summary.{json,md}`); returns one line per seed.
+fn write_world(
+    o: &ToursOptions,
+    task: &WorldTask,
+    runs: &[SeedRun],
+    dir: &Path,
+) -> Result<Vec<SeedLine>> {
+    let sc = &task.sc;
+    create_dir(dir)?;
+    let mut lines = Vec::new();
+    for r in runs {
+        let seed_dir = if runs.len() == 1 {
+            dir.to_path_buf()
+        } else {
+            dir.join(format!("seed-{}", r.seed))
+        };
+        create_dir(&seed_dir)?;
         let figures = SeedFigures::of(r);
-        report::write_seed(&sc, &p, (r, &figures), &o.command(Some(r.seed)), &dir)?;
-        figures::write(r, &figures, &dir)?;
+        let command = o.command(Some((sc.world_seed, r.seed)));
+        report::write_seed(sc, &task.p, (r, &figures), &command, &seed_dir)?;
+        figures::write(r, &figures, &seed_dir)?;
         lines.push(SeedLine {
             scenario: sc.name.clone(),
             world_seed: sc.world_seed,
             seed: r.seed,
             figures,
-            report: dir.join("tours.json"),
+            report: seed_dir.join("tours.json"),
         });
     }
     if runs.len() > 1 {
         let rows: Vec<(u64, &SeedFigures)> = lines.iter().map(|l| (l.seed, &l.figures)).collect();
-        report::write_summary(&sc, &o.out, &rows, &o.command(None))?;
+        report::write_summary(sc, dir, &rows, &o.world_command(sc.world_seed))?;
     }
     Ok(lines)
 }

@@ -23,6 +23,7 @@
 //! r … N experiences at most 1.1 × the cost the least-cost path experienced.
 
 mod figures;
+mod lambdas;
 mod metrics;
 mod report;
 mod site;
@@ -40,6 +41,7 @@ use strider_sim::Simulator;
 use crate::io::{create_dir, write_json, write_text};
 use crate::parallel::pool;
 use crate::progress::Progress;
+pub use lambdas::sweep_lambdas;
 pub use report::NavigateReport;
 use site::{Baseline, Site, baseline, max_speed, scenario_at, task_points, true_field};
 
@@ -287,6 +289,11 @@ fn check_memory(o: &NavigateOptions, navigations: usize, sites: &[Site]) -> Resu
 
 /// Runs `strider navigate`; `progress` counts the runs.
 pub fn run(o: &NavigateOptions, progress: &dyn Progress) -> Result<Navigation> {
+    run_groups(o, progress).map(|(n, _)| n)
+}
+
+/// [`run`], also returning every group's results.
+fn run_groups(o: &NavigateOptions, progress: &dyn Progress) -> Result<(Navigation, Vec<Group>)> {
     let wall = Instant::now();
     check(o)?;
     let aerial_png = o.aerial.as_deref().map(site::read_png).transpose()?;
@@ -319,7 +326,7 @@ pub fn run(o: &NavigateOptions, progress: &dyn Progress) -> Result<Navigation> {
         &o.out.join("navigate.md"),
         &report::markdown(o, &groups, wall_s),
     )?;
-    Ok(Navigation {
+    let done = Navigation {
         navigations: units.len(),
         runs: o.runs,
         sites: o.sites.len(),
@@ -327,7 +334,8 @@ pub fn run(o: &NavigateOptions, progress: &dyn Progress) -> Result<Navigation> {
         wall_s,
         out: o.out.clone(),
         lines: report::summary_lines(&groups),
-    })
+    };
+    Ok((done, groups))
 }
 
 /// Every (site, seed, task, objective) group.
