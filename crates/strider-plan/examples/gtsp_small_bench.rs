@@ -3,20 +3,22 @@
 //! ```text
 //! cargo run --release -p strider-plan --example gtsp_small_bench -- gtsplib \
 //!     [--dir /work/shared/data/gtsplib] [--min-sets 31] [--max-sets 89] [--runs 3] [--seed 1] \
-//!     [--trials N] [--stall-trials N]
+//!     [--trials N] [--stall-trials N] [--stall-per-set N]
 //! cargo run --release -p strider-plan --example gtsp_small_bench -- mission \
 //!     [--dir /work/shared/data/gtsplib] [--max-sets 40] [--runs 5] [--seed 1]
 //! ```
 //!
 //! `gtsplib` solves every instance of the folder's `best_known.csv` within the set-count range
-//! with the default preset (`--trials` and `--stall-trials` override its trial counts), `runs`
+//! with the default preset (`--trials`, `--stall-trials` and `--stall-per-set` override its trial counts and its stall
+//! iterations per set), `runs`
 //! seeds each, and prints per instance the best and mean gap, the
 //! minimum and mean time, iterations and trials.
 //!
 //! `mission` imitates how an exploration mission calls the solver: open tours from a vertex of
 //! the first set, the mission's budget (fast preset, 2 trials of at most 2000 iterations, 300
 //! stall iterations), warm-started from the tour of the instance without one set (a goal that
-//! has just appeared) and, separately, cold. The reference cost of each open instance is the best
+//! has just appeared) and, separately, cold; then warm-started with the default preset instead
+//! of the mission's budget. The reference cost of each open instance is the best
 //! of eight slow-preset runs. Prints per instance and start the time (min and mean over the
 //! seeds) and the gap to the reference (mean and worst).
 
@@ -35,6 +37,8 @@ struct Args {
     trials: Option<usize>,
     /// Override of the preset's stalled trials (`--stall-trials`).
     stall_trials: Option<usize>,
+    /// Override of the preset's stall iterations per set (`--stall-per-set`).
+    stall_per_set: Option<u64>,
 }
 
 fn parse(mut args: impl Iterator<Item = String>, max_sets: usize, runs: u64) -> Args {
@@ -46,6 +50,7 @@ fn parse(mut args: impl Iterator<Item = String>, max_sets: usize, runs: u64) -> 
         seed: 1,
         trials: None,
         stall_trials: None,
+        stall_per_set: None,
     };
     while let Some(k) = args.next() {
         let v = args.next().unwrap_or_else(|| panic!("{k} needs a value"));
@@ -57,6 +62,7 @@ fn parse(mut args: impl Iterator<Item = String>, max_sets: usize, runs: u64) -> 
             "--seed" => a.seed = v.parse().expect("--seed"),
             "--trials" => a.trials = Some(v.parse().expect("--trials")),
             "--stall-trials" => a.stall_trials = Some(v.parse().expect("--stall-trials")),
+            "--stall-per-set" => a.stall_per_set = Some(v.parse().expect("--stall-per-set")),
             _ => panic!("unknown argument {k}"),
         }
     }
@@ -95,12 +101,14 @@ fn gtsplib(a: &Args) {
     let (mut gaps, mut total) = (Vec::new(), 0.0);
     for (name, sets, best) in references(a) {
         let inst = read(&a.dir, &name);
+        let stall = a.stall_per_set.map(|f| (f * sets as u64).max(1000));
         let (mut g, mut t, mut it, mut tr) = (Vec::new(), Vec::new(), 0u64, 0usize);
         for k in 0..a.runs {
             let p = SolverParams {
                 seed: a.seed.wrapping_add(k),
                 max_trials: a.trials,
                 stall_trials: a.stall_trials,
+                stall_iterations: stall,
                 ..SolverParams::default()
             };
             let sol = checked(&inst, &p);
@@ -130,25 +138,45 @@ fn gtsplib(a: &Args) {
     );
 }
 
-/// The mission's solver budget (see the exploration crate's tour solver defaults).
-fn mission_params(seed: u64, open: usize, warm: Option<Vec<usize>>) -> SolverParams {
-    SolverParams {
-        mode: Mode::Fast,
+/// The mission's solver budget (see the exploration crate's tour solver defaults), or with
+/// `default_preset` the default preset and its stopping rule.
+fn mission_params(
+    seed: u64,
+    open: usize,
+    warm: Option<Vec<usize>>,
+    default_preset: bool,
+) -> SolverParams {
+    let base = SolverParams {
         time_limit_s: 5.0,
         seed,
         open: Some(open),
         warm_start: warm,
+        ..SolverParams::default()
+    };
+    if default_preset {
+        return base;
+    }
+    SolverParams {
+        mode: Mode::Fast,
         max_trials: Some(2),
         max_iterations: Some(2000),
         stall_iterations: Some(300),
-        ..SolverParams::default()
+        ..base
     }
 }
 
 fn mission(a: &Args) {
     println!(
-        "{:<12} {:>4} {:>6} {:>9} {:>8} {:>8} {:>9} {:>9}",
-        "instance", "sets", "start", "reference", "t_min_ms", "t_mean", "gap_mean", "gap_max"
+        "{:<12} {:>4} {:>6} {:>8} {:>9} {:>8} {:>8} {:>9} {:>9}",
+        "instance",
+        "sets",
+        "start",
+        "budget",
+        "reference",
+        "t_min_ms",
+        "t_mean",
+        "gap_mean",
+        "gap_max"
     );
     let (mut worst_gap, mut worst_t) = (0.0f64, 0.0f64);
     for (name, sets, _) in references(a) {
@@ -169,12 +197,13 @@ fn mission(a: &Args) {
             })
             .min()
             .expect("eight runs");
-        for warm in [true, false] {
+        for (warm, preset) in [(true, false), (false, false), (true, true)] {
             let (mut t, mut g) = (Vec::new(), Vec::new());
             for k in 0..a.runs {
                 let seed = a.seed.wrapping_add(k);
-                let prev = warm.then(|| checked(&before, &mission_params(seed, open, None)).tour);
-                let sol = checked(&inst, &mission_params(seed, open, prev));
+                let prev =
+                    warm.then(|| checked(&before, &mission_params(seed, open, None, preset)).tour);
+                let sol = checked(&inst, &mission_params(seed, open, prev, preset));
                 t.push(sol.time_s * 1e3);
                 g.push(100.0 * (sol.cost - reference) as f64 / reference.max(1) as f64);
             }
@@ -184,8 +213,9 @@ fn mission(a: &Args) {
             worst_gap = worst_gap.max(gmax);
             worst_t = worst_t.max(tmean);
             println!(
-                "{name:<12} {sets:>4} {:>6} {reference:>9} {:>8.2} {tmean:>8.2} {:>9.4} {gmax:>9.4}",
+                "{name:<12} {sets:>4} {:>6} {:>8} {reference:>9} {:>8.2} {tmean:>8.2} {:>9.4} {gmax:>9.4}",
                 if warm { "warm" } else { "cold" },
+                if preset { "default" } else { "mission" },
                 t.iter().cloned().fold(f64::INFINITY, f64::min),
                 g.iter().sum::<f64>() / n,
             );
