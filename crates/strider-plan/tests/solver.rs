@@ -156,9 +156,9 @@ proptest! {
     }
 }
 
-/// The heuristic with every trial of the default preset (its stopping rule may end the search
-/// after three of the four; over 60 such instances, closed and open, that misses the optimum
-/// on 2 of 120 solves against 1 with all four).
+/// The heuristic with every trial of the default preset: its stopping rule may end the search
+/// after three of the four, and on a few small random instances only the fourth finds the
+/// optimum.
 fn all_trials() -> SolverParams {
     SolverParams {
         use_exact: false,

@@ -13,7 +13,8 @@
 //! 4. accept the candidate if it is better, or with probability
 //!    `exp(−Δ/T)` (Kirkpatrick et al. 1983); `T` decreases geometrically
 //!    from `temp_start`·(mean edge cost of the initial tour) to
-//!    `temp_end` times that over the trial's iterations.
+//!    `temp_end` times that over the trial's iterations (a restart from the
+//!    best tour starts at `restart_temp` times that).
 //!
 //! A trial ends after its iteration budget, after `stall` iterations without
 //! improving its best tour, or at the time limit. Trials alternate between a
@@ -60,8 +61,10 @@ pub(crate) fn search(
             break;
         }
         search.trials += 1;
+        // Mirrors `starting_tour`: odd trials restart from the best tour.
+        let restart = warm.is_none() && trial % 2 == 1 && search.best.is_some();
         let tour = search.starting_tour(trial, warm.take());
-        let go_on = search.run_trial(tour);
+        let go_on = search.run_trial(tour, restart);
         stalled.after_trial(search.best.as_ref().map(|b| b.1));
         if !go_on {
             break;
@@ -217,9 +220,10 @@ impl<'a> Search<'a> {
         }
     }
 
-    /// One trial from `tour`: local search, then the iterations. False when
-    /// the instance is too small to iterate on (the search ends).
-    fn run_trial(&mut self, mut tour: Vec<u32>) -> bool {
+    /// One trial from `tour`: local search, then the iterations; a `restart` from the best
+    /// tour starts cooler (`restart_temp`). False when the instance is too small to iterate on
+    /// (the search ends).
+    fn run_trial(&mut self, mut tour: Vec<u32>, restart: bool) -> bool {
         let (p, settings) = (self.p, self.settings);
         let c0 = p.tour_cost(&tour);
         let cost = self.ls.run(p, &mut tour, c0, None, i64::MAX);
@@ -229,7 +233,8 @@ impl<'a> Search<'a> {
             return false;
         }
         let mean_edge = (cost as f64 / p.m as f64).max(1.0);
-        let t0 = settings.temp_start * mean_edge;
+        let t0 =
+            settings.temp_start * mean_edge * if restart { settings.restart_temp } else { 1.0 };
         let t_end = t0 * settings.temp_end;
         let mut trial = Trial {
             cur: tour,
