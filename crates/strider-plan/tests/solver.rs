@@ -156,6 +156,17 @@ proptest! {
     }
 }
 
+/// The heuristic with every trial of the default preset: its stopping rule may end the search
+/// after three of the four, and on a few small random instances only the fourth finds the
+/// optimum.
+fn all_trials() -> SolverParams {
+    SolverParams {
+        use_exact: false,
+        stall_trials: Some(usize::MAX),
+        ..SolverParams::default()
+    }
+}
+
 #[test]
 fn heuristic_reaches_exact_optimum() {
     for seed in 0..12u64 {
@@ -164,14 +175,7 @@ fn heuristic_reaches_exact_optimum() {
         let inst = random_instance(seed, n, m, seed as u8);
         let exact = solve(&inst, &SolverParams::default()).unwrap();
         assert!(exact.optimal);
-        let heur = solve(
-            &inst,
-            &SolverParams {
-                use_exact: false,
-                ..SolverParams::default()
-            },
-        )
-        .unwrap();
+        let heur = solve(&inst, &all_trials()).unwrap();
         check(&inst, &heur, false);
         assert_eq!(heur.cost, exact.cost, "seed {seed}: heuristic vs exact");
         // Open tours too.
@@ -188,8 +192,7 @@ fn heuristic_reaches_exact_optimum() {
             &inst,
             &SolverParams {
                 open,
-                use_exact: false,
-                ..SolverParams::default()
+                ..all_trials()
             },
         )
         .unwrap();
@@ -198,6 +201,76 @@ fn heuristic_reaches_exact_optimum() {
             heur.cost, exact.cost,
             "seed {seed}: open heuristic vs exact"
         );
+    }
+}
+
+#[test]
+fn the_search_ends_after_the_given_number_of_trials_without_improvement() {
+    // Eight sets: the first trial finds the optimum, so every later trial stalls.
+    for seed in 0..6u64 {
+        let inst = random_instance(seed, 20, 8, seed as u8);
+        let optimum = solve(&inst, &SolverParams::default()).unwrap().cost;
+        for stall_trials in [1usize, 2, 3] {
+            let p = SolverParams {
+                max_trials: Some(8),
+                stall_trials: Some(stall_trials),
+                ..heuristic(400, seed)
+            };
+            let sol = solve(&inst, &p).unwrap();
+            check(&inst, &sol, false);
+            assert_eq!(sol.cost, optimum, "seed {seed}");
+            assert!(
+                sol.trials <= 1 + stall_trials,
+                "seed {seed}: {} trials with stall_trials = {stall_trials}",
+                sol.trials
+            );
+            assert!(sol.trials > stall_trials, "seed {seed}: stopped early");
+        }
+        // Zero is read as one; a count above the trials keeps every trial.
+        let zero = solve(
+            &inst,
+            &SolverParams {
+                max_trials: Some(8),
+                stall_trials: Some(0),
+                ..heuristic(400, seed)
+            },
+        )
+        .unwrap();
+        assert_eq!(zero.trials, 2, "seed {seed}");
+        let all = solve(
+            &inst,
+            &SolverParams {
+                max_trials: Some(5),
+                stall_trials: Some(usize::MAX),
+                ..heuristic(400, seed)
+            },
+        )
+        .unwrap();
+        assert_eq!(all.trials, 5, "seed {seed}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// The stopping rule never runs more trials than allowed, always runs at least one, and
+    /// keeps the run deterministic for a seed.
+    #[test]
+    fn stalled_trials_bound_the_trials(seed in 0u64..1000, n in 4usize..40, mfrac in 0.0f64..1.0,
+                                       kind in 0u8..3, trials in 1usize..6, stall in 0usize..4) {
+        let m = ((n as f64 * mfrac) as usize).clamp(1, n);
+        let inst = random_instance(seed, n, m, kind);
+        let p = SolverParams {
+            max_trials: Some(trials),
+            stall_trials: Some(stall),
+            ..heuristic(150, seed)
+        };
+        let a = solve(&inst, &p).unwrap();
+        check(&inst, &a, false);
+        prop_assert!(a.trials >= 1 && a.trials <= trials);
+        let b = solve(&inst, &p).unwrap();
+        prop_assert_eq!(&a.tour, &b.tour);
+        prop_assert_eq!(a.trials, b.trials);
     }
 }
 

@@ -13,11 +13,14 @@
 //! 4. accept the candidate if it is better, or with probability
 //!    `exp(−Δ/T)` (Kirkpatrick et al. 1983); `T` decreases geometrically
 //!    from `temp_start`·(mean edge cost of the initial tour) to
-//!    `temp_end` times that over the trial's iterations.
+//!    `temp_end` times that over the trial's iterations (a restart from the
+//!    best tour starts at `restart_temp` times that).
 //!
 //! A trial ends after its iteration budget, after `stall` iterations without
 //! improving its best tour, or at the time limit. Trials alternate between a
-//! fresh randomised construction and a restart from the best tour found.
+//! fresh randomised construction and a restart from the best tour found. The
+//! search ends after its trials, at the time limit, or once `stall_trials`
+//! trials in a row have not improved the best tour ([`StalledTrials`]).
 
 use std::time::Instant;
 
@@ -49,13 +52,21 @@ pub(crate) fn search(
 ) -> SearchResult {
     let mut search = Search::new(p, settings, seed, start, time_limit_s);
     let mut warm = warm;
+    let mut stalled = StalledTrials::default();
     for trial in 0..settings.trials {
         if trial > 0 && search.out_of_time() {
             break;
         }
+        if stalled.count >= settings.stall_trials {
+            break;
+        }
         search.trials += 1;
+        // Mirrors `starting_tour`: odd trials restart from the best tour.
+        let restart = warm.is_none() && trial % 2 == 1 && search.best.is_some();
         let tour = search.starting_tour(trial, warm.take());
-        if !search.run_trial(tour) {
+        let go_on = search.run_trial(tour, restart);
+        stalled.after_trial(search.best.as_ref().map(|b| b.1));
+        if !go_on {
             break;
         }
     }
@@ -64,6 +75,29 @@ pub(crate) fn search(
         tour,
         iterations: search.iterations,
         trials: search.trials,
+    }
+}
+
+/// Consecutive trials that ended without improving the best tour: the search's stopping rule
+/// (a trial that merely finds the best tour again does not count as an improvement).
+#[derive(Debug, Default)]
+pub(crate) struct StalledTrials {
+    /// Best cost after the last trial (`None` before the first).
+    best: Option<i64>,
+    /// Trials in a row that left it unchanged.
+    pub count: usize,
+}
+
+impl StalledTrials {
+    /// Records the best cost after a trial.
+    pub fn after_trial(&mut self, best: Option<i64>) {
+        let improved = match (self.best, best) {
+            (Some(before), Some(now)) => now < before,
+            (None, _) => true,
+            (Some(_), None) => false,
+        };
+        self.count = if improved { 0 } else { self.count + 1 };
+        self.best = best.or(self.best);
     }
 }
 
@@ -186,9 +220,10 @@ impl<'a> Search<'a> {
         }
     }
 
-    /// One trial from `tour`: local search, then the iterations. False when
-    /// the instance is too small to iterate on (the search ends).
-    fn run_trial(&mut self, mut tour: Vec<u32>) -> bool {
+    /// One trial from `tour`: local search, then the iterations; a `restart` from the best
+    /// tour starts cooler (`restart_temp`). False when the instance is too small to iterate on
+    /// (the search ends).
+    fn run_trial(&mut self, mut tour: Vec<u32>, restart: bool) -> bool {
         let (p, settings) = (self.p, self.settings);
         let c0 = p.tour_cost(&tour);
         let cost = self.ls.run(p, &mut tour, c0, None, i64::MAX);
@@ -198,7 +233,8 @@ impl<'a> Search<'a> {
             return false;
         }
         let mean_edge = (cost as f64 / p.m as f64).max(1.0);
-        let t0 = settings.temp_start * mean_edge;
+        let t0 =
+            settings.temp_start * mean_edge * if restart { settings.restart_temp } else { 1.0 };
         let t_end = t0 * settings.temp_end;
         let mut trial = Trial {
             cur: tour,
@@ -276,10 +312,15 @@ impl<'a> Search<'a> {
     /// Records the set neighbours of every set in `tour`.
     fn record_neighbours(&mut self, tour: &[u32]) {
         let p = self.p;
-        for (i, &v) in tour.iter().enumerate() {
+        let Some(&last) = tour.last() else {
+            return;
+        };
+        let mut prev = p.set_of(last);
+        for &v in tour {
             let s = p.set_of(v);
-            self.succ[s] = p.set_of(tour[(i + 1) % tour.len()]) as u32;
-            self.pred[s] = p.set_of(tour[(i + tour.len() - 1) % tour.len()]) as u32;
+            self.succ[prev] = s as u32;
+            self.pred[s] = prev as u32;
+            prev = s;
         }
     }
 
@@ -291,8 +332,8 @@ impl<'a> Search<'a> {
         let l = cand.len();
         for i in 0..l {
             let s = p.set_of(cand[i]);
-            let nx = p.set_of(cand[(i + 1) % l]) as u32;
-            let pv = p.set_of(cand[(i + l - 1) % l]) as u32;
+            let nx = p.set_of(cand[if i + 1 == l { 0 } else { i + 1 }]) as u32;
+            let pv = p.set_of(cand[if i == 0 { l - 1 } else { i - 1 }]) as u32;
             if self.succ[s] != nx || self.pred[s] != pv {
                 self.dirty.push(s as u32);
             }
@@ -329,5 +370,39 @@ impl<'a> Search<'a> {
             self.insert_w.update();
             self.noise_w.update();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::StalledTrials;
+
+    #[test]
+    fn only_a_strictly_better_best_resets_the_count_of_stalled_trials() {
+        let mut s = StalledTrials::default();
+        s.after_trial(Some(100));
+        assert_eq!(s.count, 0, "the first trial sets the best");
+        s.after_trial(Some(100));
+        assert_eq!(s.count, 1, "finding the best again is no improvement");
+        s.after_trial(Some(100));
+        assert_eq!(s.count, 2);
+        s.after_trial(Some(99));
+        assert_eq!(s.count, 0);
+        s.after_trial(None);
+        assert_eq!(s.count, 1, "a trial without a tour improves nothing");
+        s.after_trial(Some(99));
+        assert_eq!(
+            s.count, 2,
+            "the best is remembered across a trial without a tour"
+        );
+    }
+
+    #[test]
+    fn a_first_trial_without_a_tour_counts_as_no_stall() {
+        let mut s = StalledTrials::default();
+        s.after_trial(None);
+        assert_eq!(s.count, 0);
+        s.after_trial(Some(5));
+        assert_eq!(s.count, 0);
     }
 }

@@ -51,7 +51,7 @@ impl ClusterOpt {
         self.sets.extend(tour.iter().map(|&v| p.set_of(v)));
         // First layer: the smallest set.
         let r = (0..m).min_by_key(|&i| p.set_size(self.sets[i])).unwrap();
-        let layer = |i: usize| self.sets[(r + i) % m];
+        let layer = |i: usize| self.sets[wrap(r + i, m)];
         let mut best = (i64::MAX, 0u32, 0usize);
         for a in p.set(layer(0)) {
             // Layer 1.
@@ -128,6 +128,14 @@ pub(crate) struct LocalSearch {
     /// The run's deadline: the set-order moves stop there (the tour stays feasible), so that a
     /// first local search on a large random tour cannot outlast the time limit.
     pub stop_at: Option<Instant>,
+}
+
+/// `x mod m` for `x < 2m`: tour indices step by at most one lap, and a division in the inner
+/// loops of the moves costs more than their memory reads.
+#[inline(always)]
+fn wrap(x: usize, m: usize) -> usize {
+    debug_assert!(x < 2 * m);
+    if x >= m { x - m } else { x }
 }
 
 /// Queue pops between two looks at the clock.
@@ -255,7 +263,7 @@ impl LocalSearch {
         }
         if self.two_opt {
             let m = t.len();
-            if let Some(d) = self.two_opt_edge(p, t, (i + m - 1) % m, false) {
+            if let Some(d) = self.two_opt_edge(p, t, wrap(i + m - 1, m), false) {
                 return Some(d);
             }
             if let Some(d) = self.two_opt_edge(p, t, i, true) {
@@ -282,7 +290,7 @@ impl LocalSearch {
     fn dirty_positions(&mut self, p: &Problem, t: &[u32], idx: &[usize]) {
         let m = t.len();
         for &k in idx {
-            let s = p.set_of(t[k % m]);
+            let s = p.set_of(t[wrap(k, m)]);
             self.push(s);
         }
     }
@@ -294,9 +302,9 @@ impl LocalSearch {
     fn move_opt(&mut self, p: &Problem, t: &mut Vec<u32>, i: usize) -> Option<i64> {
         let m = t.len();
         let v = t[i];
-        let im1 = (i + m - 1) % m;
+        let im1 = wrap(i + m - 1, m);
         let prev = t[im1];
-        let next = t[(i + 1) % m];
+        let next = t[wrap(i + 1, m)];
         let s = p.set_of(v);
         let gain = p.d(prev, v) + p.d(v, next) - p.d(prev, next);
         let range = p.set_range(s);
@@ -306,7 +314,7 @@ impl LocalSearch {
             let (a, b) = if j == i {
                 (prev, next)
             } else {
-                (t[j], t[(j + 1) % m])
+                (t[j], t[wrap(j + 1, m)])
             };
             let base = p.d(a, b);
             let ra = &p.row(a)[range.clone()];
@@ -328,7 +336,7 @@ impl LocalSearch {
             eval(i, &mut best);
             for &y in &p.set_nbrs[s][..self.nn] {
                 let q = self.pos[y as usize] as usize;
-                for j in [(q + m - 1) % m, q] {
+                for j in [wrap(q + m - 1, m), q] {
                     if j != im1 && j != i {
                         eval(j, &mut best);
                     }
@@ -369,7 +377,7 @@ impl LocalSearch {
         let a = t[lo];
         let b = t[lo + 1];
         let c = t[hi];
-        let e = t[(hi + 1) % m];
+        let e = t[wrap(hi + 1, m)];
         let mut delta = p.d(a, c) + p.d(b, e) - p.d(a, b) - p.d(c, e);
         if !p.symmetric {
             let (f, r) = self.seg_costs(lo + 1, hi);
@@ -400,12 +408,12 @@ impl LocalSearch {
                 consider(j, &mut best);
             }
         } else {
-            let x = if x_first { t[k] } else { t[(k + 1) % m] };
+            let x = if x_first { t[k] } else { t[wrap(k + 1, m)] };
             for &y in &p.set_nbrs[p.set_of(x)][..self.nn] {
                 let q = self.pos[y as usize] as usize;
                 // x = t[k]: edge pair (k, q) creates (x, t[q]);
                 // x = t[k+1]: edge pair (k, q-1) creates (x, t[q]).
-                let j = if x_first { q } else { (q + m - 1) % m };
+                let j = if x_first { q } else { wrap(q + m - 1, m) };
                 consider(j, &mut best);
             }
         }
@@ -421,7 +429,7 @@ impl LocalSearch {
     /// Best or-opt move of the segment of `len` sets starting at `start`.
     fn or_move(&mut self, p: &Problem, t: &mut [u32], start: usize, len: usize) -> Option<i64> {
         let m = t.len();
-        let at = |x: usize| t[x % m];
+        let at = |x: usize| t[wrap(x, m)];
         let s1 = at(start);
         let sl = at(start + len - 1);
         let prev = at(start + m - 1);
@@ -434,15 +442,19 @@ impl LocalSearch {
         }
         let rev_extra = bwd - fwd;
         let mut best = (remove_gain, usize::MAX, false);
+        // The arcs into and out of the segment's ends as rows and columns: four of the five
+        // costs of a candidate edge come from these short slices instead of scattered rows.
+        let (into_s1, into_sl) = (p.col(s1), p.col(sl));
+        let (from_s1, from_sl) = (p.row(s1), p.row(sl));
         let eval = |j: usize, best: &mut (i64, usize, bool)| {
-            let c = t[j];
-            let e = t[(j + 1) % m];
-            let base = p.d(c, e);
-            let f = p.d(c, s1) + p.d(sl, e) - base;
+            let c = t[j] as usize;
+            let e = t[wrap(j + 1, m)] as usize;
+            let base = p.d(c as u32, e as u32);
+            let f = into_s1[c] + from_sl[e] - base;
             if f < best.0 {
                 *best = (f, j, false);
             }
-            let r = p.d(c, sl) + p.d(s1, e) - base + rev_extra;
+            let r = into_sl[c] + from_s1[e] - base + rev_extra;
             if r < best.0 {
                 *best = (r, j, true);
             }
@@ -450,15 +462,15 @@ impl LocalSearch {
         if self.nn + 1 >= m {
             // Candidate edges (t[j], t[j+1]) of the rest: j from start+len to start+m-2.
             for off in len..m - 1 {
-                eval((start + off) % m, &mut best);
+                eval(wrap(start + off, m), &mut best);
             }
         } else {
             for end in [s1, sl] {
                 for &y in &p.set_nbrs[p.set_of(end)][..self.nn] {
                     let q = self.pos[y as usize] as usize;
-                    for j in [(q + m - 1) % m, q] {
+                    for j in [wrap(q + m - 1, m), q] {
                         // Skip edges touching the segment: offsets m-1 and 0..len.
-                        let off = (j + m - start) % m;
+                        let off = wrap(j + m - start, m);
                         if off >= len && off < m - 1 {
                             eval(j, &mut best);
                         }

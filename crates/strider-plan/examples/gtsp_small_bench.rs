@@ -1,0 +1,234 @@
+//! GTSP timing on GTSPLIB instances and on mission-sized open tours with warm starts.
+//!
+//! ```text
+//! cargo run --release -p strider-plan --example gtsp_small_bench -- gtsplib \
+//!     [--dir /work/shared/data/gtsplib] [--min-sets 31] [--max-sets 89] [--runs 3] [--seed 1] \
+//!     [--trials N] [--stall-trials N] [--stall-per-set N]
+//! cargo run --release -p strider-plan --example gtsp_small_bench -- mission \
+//!     [--dir /work/shared/data/gtsplib] [--max-sets 40] [--runs 5] [--seed 1]
+//! ```
+//!
+//! `gtsplib` solves every instance of the folder's `best_known.csv` within the set-count range
+//! with the default preset (`--trials`, `--stall-trials` and `--stall-per-set` override its trial counts and its stall
+//! iterations per set), `runs`
+//! seeds each, and prints per instance the best and mean gap, the
+//! minimum and mean time, iterations and trials.
+//!
+//! `mission` imitates how an exploration mission calls the solver: open tours from a vertex of
+//! the first set, the mission's budget (fast preset, 2 trials of at most 2000 iterations, 300
+//! stall iterations), warm-started from the tour of the instance without one set (a goal that
+//! has just appeared) and, separately, cold; then warm-started with the default preset instead
+//! of the mission's budget. The reference cost of each open instance is the best
+//! of eight slow-preset runs. Prints per instance and start the time (min and mean over the
+//! seeds) and the gap to the reference (mean and worst).
+
+use std::path::{Path, PathBuf};
+
+use strider_plan::tsplib::read_instance_file;
+use strider_plan::{Instance, Mode, Solution, SolverParams, solve};
+
+struct Args {
+    dir: PathBuf,
+    min_sets: usize,
+    max_sets: usize,
+    runs: u64,
+    seed: u64,
+    /// Override of the preset's trials (`--trials`).
+    trials: Option<usize>,
+    /// Override of the preset's stalled trials (`--stall-trials`).
+    stall_trials: Option<usize>,
+    /// Override of the preset's stall iterations per set (`--stall-per-set`).
+    stall_per_set: Option<u64>,
+}
+
+fn parse(mut args: impl Iterator<Item = String>, max_sets: usize, runs: u64) -> Args {
+    let mut a = Args {
+        dir: PathBuf::from("/work/shared/data/gtsplib"),
+        min_sets: 0,
+        max_sets,
+        runs,
+        seed: 1,
+        trials: None,
+        stall_trials: None,
+        stall_per_set: None,
+    };
+    while let Some(k) = args.next() {
+        let v = args.next().unwrap_or_else(|| panic!("{k} needs a value"));
+        match k.as_str() {
+            "--dir" => a.dir = PathBuf::from(v),
+            "--min-sets" => a.min_sets = v.parse().expect("--min-sets"),
+            "--max-sets" => a.max_sets = v.parse().expect("--max-sets"),
+            "--runs" => a.runs = v.parse().expect("--runs"),
+            "--seed" => a.seed = v.parse().expect("--seed"),
+            "--trials" => a.trials = Some(v.parse().expect("--trials")),
+            "--stall-trials" => a.stall_trials = Some(v.parse().expect("--stall-trials")),
+            "--stall-per-set" => a.stall_per_set = Some(v.parse().expect("--stall-per-set")),
+            _ => panic!("unknown argument {k}"),
+        }
+    }
+    a
+}
+
+/// `(name, sets, best_known)` rows of `best_known.csv` within the set-count range.
+fn references(a: &Args) -> Vec<(String, usize, i64)> {
+    let csv = std::fs::read_to_string(a.dir.join("best_known.csv")).expect("best_known.csv");
+    csv.lines()
+        .skip(1)
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            let sets: usize = f.get(1)?.trim().parse().ok()?;
+            let best: i64 = f.get(3)?.trim().parse().ok()?;
+            (sets >= a.min_sets && sets <= a.max_sets).then(|| (f[0].to_string(), sets, best))
+        })
+        .collect()
+}
+
+fn read(dir: &Path, name: &str) -> Instance {
+    read_instance_file(dir.join(format!("{name}.gtsp"))).expect("read instance")
+}
+
+fn checked(inst: &Instance, p: &SolverParams) -> Solution {
+    let sol = solve(inst, p).expect("solve");
+    inst.check_tour(&sol.tour).expect("feasible tour");
+    sol
+}
+
+fn gtsplib(a: &Args) {
+    println!(
+        "{:<12} {:>4} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>6}",
+        "instance", "sets", "best", "gap_min", "gap_mean", "t_min", "t_mean", "iters", "trials"
+    );
+    let (mut gaps, mut total) = (Vec::new(), 0.0);
+    for (name, sets, best) in references(a) {
+        let inst = read(&a.dir, &name);
+        let stall = a.stall_per_set.map(|f| (f * sets as u64).max(1000));
+        let (mut g, mut t, mut it, mut tr) = (Vec::new(), Vec::new(), 0u64, 0usize);
+        for k in 0..a.runs {
+            let p = SolverParams {
+                seed: a.seed.wrapping_add(k),
+                max_trials: a.trials,
+                stall_trials: a.stall_trials,
+                stall_iterations: stall,
+                ..SolverParams::default()
+            };
+            let sol = checked(&inst, &p);
+            g.push(100.0 * (sol.cost - best) as f64 / best as f64);
+            t.push(sol.time_s);
+            it += sol.iterations;
+            tr += sol.trials;
+        }
+        let n = a.runs as f64;
+        println!(
+            "{name:<12} {sets:>4} {best:>8} {:>8.4} {:>8.4} {:>8.3} {:>8.3} {:>8} {:>6.1}",
+            g.iter().cloned().fold(f64::INFINITY, f64::min),
+            g.iter().sum::<f64>() / n,
+            t.iter().cloned().fold(f64::INFINITY, f64::min),
+            t.iter().sum::<f64>() / n,
+            it / a.runs,
+            tr as f64 / n
+        );
+        total += t.iter().sum::<f64>();
+        gaps.extend(g);
+    }
+    println!(
+        "instances={} mean_gap_pct={:.4} max_gap_pct={:.4} total_s={total:.2}",
+        gaps.len() / a.runs.max(1) as usize,
+        gaps.iter().sum::<f64>() / gaps.len().max(1) as f64,
+        gaps.iter().cloned().fold(0.0f64, f64::max)
+    );
+}
+
+/// The mission's solver budget (see the exploration crate's tour solver defaults), or with
+/// `default_preset` the default preset and its stopping rule.
+fn mission_params(
+    seed: u64,
+    open: usize,
+    warm: Option<Vec<usize>>,
+    default_preset: bool,
+) -> SolverParams {
+    let base = SolverParams {
+        time_limit_s: 5.0,
+        seed,
+        open: Some(open),
+        warm_start: warm,
+        ..SolverParams::default()
+    };
+    if default_preset {
+        return base;
+    }
+    SolverParams {
+        mode: Mode::Fast,
+        max_trials: Some(2),
+        max_iterations: Some(2000),
+        stall_iterations: Some(300),
+        ..base
+    }
+}
+
+fn mission(a: &Args) {
+    println!(
+        "{:<12} {:>4} {:>6} {:>8} {:>9} {:>8} {:>8} {:>9} {:>9}",
+        "instance",
+        "sets",
+        "start",
+        "budget",
+        "reference",
+        "t_min_ms",
+        "t_mean",
+        "gap_mean",
+        "gap_max"
+    );
+    let (mut worst_gap, mut worst_t) = (0.0f64, 0.0f64);
+    for (name, sets, _) in references(a) {
+        let inst = read(&a.dir, &name);
+        let open = inst.sets[0][0];
+        // The instance before the newest goal (the last set) appeared.
+        let mut before = inst.clone();
+        before.sets.pop();
+        let reference = (0..8)
+            .map(|s| {
+                let p = SolverParams {
+                    mode: Mode::Slow,
+                    seed: 1000 + s,
+                    open: Some(open),
+                    ..SolverParams::default()
+                };
+                checked(&inst, &p).cost
+            })
+            .min()
+            .expect("eight runs");
+        for (warm, preset) in [(true, false), (false, false), (true, true)] {
+            let (mut t, mut g) = (Vec::new(), Vec::new());
+            for k in 0..a.runs {
+                let seed = a.seed.wrapping_add(k);
+                let prev =
+                    warm.then(|| checked(&before, &mission_params(seed, open, None, preset)).tour);
+                let sol = checked(&inst, &mission_params(seed, open, prev, preset));
+                t.push(sol.time_s * 1e3);
+                g.push(100.0 * (sol.cost - reference) as f64 / reference.max(1) as f64);
+            }
+            let n = a.runs as f64;
+            let gmax = g.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+            let tmean = t.iter().sum::<f64>() / n;
+            worst_gap = worst_gap.max(gmax);
+            worst_t = worst_t.max(tmean);
+            println!(
+                "{name:<12} {sets:>4} {:>6} {:>8} {reference:>9} {:>8.2} {tmean:>8.2} {:>9.4} {gmax:>9.4}",
+                if warm { "warm" } else { "cold" },
+                if preset { "default" } else { "mission" },
+                t.iter().cloned().fold(f64::INFINITY, f64::min),
+                g.iter().sum::<f64>() / n,
+            );
+        }
+    }
+    println!("worst_mean_time_ms={worst_t:.2} worst_gap_pct={worst_gap:.4}");
+}
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    match args.next().as_deref() {
+        Some("gtsplib") => gtsplib(&parse(args, 89, 3)),
+        Some("mission") => mission(&parse(args, 40, 5)),
+        _ => panic!("usage: gtsp_small_bench gtsplib|mission [--dir D] [--min-sets K] …"),
+    }
+}
