@@ -18,8 +18,15 @@ fi
 PATH="$("$PY" -c 'import os, sys; print(os.path.dirname(sys.executable))'):$PATH"
 export PATH
 # The dev profile of the workspace: the wheel reuses what `cargo test` just built.
-MATURIN_PEP517_ARGS="--profile dev" "$PY" -m pip install --quiet --no-deps --force-reinstall \
-  --no-build-isolation ./python
+# Quiet when it works; the whole build log (cargo's and maturin's) when it does not.
+build_log="$(mktemp)"
+if ! MATURIN_PEP517_ARGS="--profile dev" "$PY" -m pip install --verbose --no-deps \
+  --force-reinstall --no-build-isolation ./python >"$build_log" 2>&1; then
+  cat "$build_log" >&2
+  echo "error: building the Python package from ./python failed (its build log is above)" >&2
+  exit 1
+fi
+rm -f "$build_log"
 # The Python tests compare the package with the command cargo built.
 export STRIDER_BIN="${CARGO_TARGET_DIR:-$PWD/target}/debug/strider"
 "$PY" -m pytest -q python/tests
