@@ -426,3 +426,27 @@ fn invalid_inputs() {
     let empty = Instance::new("e", vec![], CostMatrix::from_fn(0, |_, _| 0)).unwrap();
     assert_eq!(solve(&empty, &SolverParams::default()).unwrap().cost, 0);
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// The iteration at which the returned tour was found lies within the run and is the same
+    /// for the same seed; a run whose best tour comes from the first local search reports 0.
+    #[test]
+    fn the_best_tour_is_found_within_the_iterations_run(seed in 0u64..1000, n in 6usize..40,
+                                                         mfrac in 0.2f64..1.0, kind in 0u8..3,
+                                                         trials in 1usize..4) {
+        let m = ((n as f64 * mfrac) as usize).clamp(5, n);
+        let inst = random_instance(seed, n, m, kind);
+        let p = SolverParams { max_trials: Some(trials), ..heuristic(300, seed) };
+        let sol = solve(&inst, &p).unwrap();
+        check(&inst, &sol, false);
+        prop_assert!(sol.best_iteration <= sol.iterations);
+        let again = solve(&inst, &p).unwrap();
+        prop_assert_eq!((again.best_iteration, again.cost), (sol.best_iteration, sol.cost));
+        let exact = solve(&inst, &SolverParams::default()).unwrap();
+        if exact.optimal {
+            prop_assert_eq!(exact.best_iteration, 0);
+        }
+    }
+}

@@ -38,6 +38,8 @@ pub(crate) struct SearchResult {
     pub tour: Vec<u32>,
     pub iterations: u64,
     pub trials: usize,
+    /// Iterations (over all trials) done when the returned tour was found.
+    pub best_iteration: u64,
 }
 
 const NOISE_LEVELS: [f64; 3] = [0.0, 0.1, 0.4];
@@ -75,6 +77,7 @@ pub(crate) fn search(
         tour,
         iterations: search.iterations,
         trials: search.trials,
+        best_iteration: search.best_iteration,
     }
 }
 
@@ -139,6 +142,8 @@ struct Search<'a> {
     best: Option<(Vec<u32>, i64)>,
     iterations: u64,
     trials: usize,
+    /// `iterations` when the best tour was found.
+    best_iteration: u64,
     removed: Vec<u32>,
     /// Set successor and predecessor of every set in the current tour.
     succ: Vec<u32>,
@@ -177,6 +182,7 @@ impl<'a> Search<'a> {
             best: None,
             iterations: 0,
             trials: 0,
+            best_iteration: 0,
             removed: Vec::new(),
             succ: vec![0u32; p.m],
             pred: vec![0u32; p.m],
@@ -217,6 +223,7 @@ impl<'a> Search<'a> {
     fn offer_best(&mut self, tour: &[u32], cost: i64) {
         if self.best.as_ref().is_none_or(|b| cost < b.1) {
             self.best = Some((tour.to_vec(), cost));
+            self.best_iteration = self.iterations;
         }
     }
 

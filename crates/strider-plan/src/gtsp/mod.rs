@@ -80,6 +80,11 @@ pub struct Solution {
     pub iterations: u64,
     /// Trials performed.
     pub trials: usize,
+    /// LNS iterations (counted over all trials) done when the returned tour was found: the
+    /// rest of `iterations` only confirmed it (0 for the exact solver, or when the first local
+    /// search found it).
+    #[serde(default)]
+    pub best_iteration: u64,
     /// True if the tour is proven optimal (exact solver).
     pub optimal: bool,
 }
@@ -177,15 +182,16 @@ pub fn solve(instance: &Instance, params: &SolverParams) -> Result<Solution, Sol
             time_s: start.elapsed().as_secs_f64(),
             iterations: 0,
             trials: 0,
+            best_iteration: 0,
             optimal: true,
         });
     }
     let p = Problem::new(instance, anchor, open);
 
-    let (tour, iterations, trials, optimal) =
+    let (tour, iterations, trials, best_iteration, optimal) =
         if params.use_exact && p.m <= EXACT_MAX_SETS && exact::work(&p) <= EXACT_WORK_LIMIT {
             let (t, _) = exact::solve(&p);
-            (t, 0, 0, true)
+            (t, 0, 0, 0, true)
         } else {
             let settings = Settings::new(params, p.m);
             let warm = params
@@ -193,7 +199,7 @@ pub fn solve(instance: &Instance, params: &SolverParams) -> Result<Solution, Sol
                 .as_ref()
                 .map(|w| warm_tour(&p, instance, w));
             let r = lns::search(&p, &settings, params.seed, warm, start, params.time_limit_s);
-            (r.tour, r.iterations, r.trials, false)
+            (r.tour, r.iterations, r.trials, r.best_iteration, false)
         };
     let internal_cost = p.tour_cost(&tour);
     // Rotate and map back to original vertices.
@@ -216,6 +222,7 @@ pub fn solve(instance: &Instance, params: &SolverParams) -> Result<Solution, Sol
         time_s: start.elapsed().as_secs_f64(),
         iterations,
         trials,
+        best_iteration,
         optimal,
     })
 }
