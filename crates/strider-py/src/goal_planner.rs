@@ -19,6 +19,9 @@ pub struct GoalPlanner {
     /// Where a start or goal off the admissible cells looks for the nearest admissible one.
     near: Vec<(i32, i32)>,
     dij: Dijkstra,
+    /// The last view and the map's scan count it was built at: a strategy that decides more
+    /// often than scans arrive plans on the same view instead of rebuilding it.
+    view: Option<(u64, PlanningView)>,
 }
 
 impl GoalPlanner {
@@ -39,18 +42,24 @@ impl GoalPlanner {
             bounds,
             near,
             dij: Dijkstra::new(),
+            view: None,
         })
     }
 
     /// The waypoints from `from` to `goal`, or `None` when no admissible route is known.
     pub fn route(&mut self, map: &ElevationMap, from: Point2, goal: Point2) -> Option<Vec<Point2>> {
-        let view = PlanningView::build(
-            map,
-            &self.models,
-            CostMode::Flat,
-            self.c_loss,
-            self.bounds.as_ref(),
-        )?;
+        let scans = map.scan_count();
+        if self.view.as_ref().is_none_or(|(k, _)| *k != scans) {
+            self.view = PlanningView::build(
+                map,
+                &self.models,
+                CostMode::Flat,
+                self.c_loss,
+                self.bounds.as_ref(),
+            )
+            .map(|v| (scans, v));
+        }
+        let (_, view) = self.view.as_ref()?;
         let ok = |c: Cell| view.grid.is_admissible(c);
         let src = nearest_where(map.cell_at(from.x, from.y)?, &self.near, ok)?;
         let dst = nearest_where(map.cell_at(goal.x, goal.y)?, &self.near, ok)?;
