@@ -22,7 +22,7 @@ use super::courtyard_large::{self, BOX, WALL};
 use super::draw::{uni, wobble};
 use super::placement::{connected_from, snap};
 use crate::error::ScenarioError;
-use crate::model::{Scenario, World};
+use crate::model::Scenario;
 use crate::profiles;
 
 pub(super) const DESCRIPTION: &str = "Exploration at scale: 200×200 m at 0.10 m (4 M cells), \
@@ -67,7 +67,7 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
         place_boxes(&mut c, &buildings, a.rng);
         let world = a.finish(&c);
         let adm = a.admissible(&world);
-        let tour = octagon_tour(&world, &adm)?;
+        let tour = courtyard_large::octagon_tour(&world, &adm, (W, H), 15.0)?;
         let start = snap(&world, &adm, Point2::new(8.0, 8.0))?;
         if !connected_from(&world, &adm, start) {
             return None;
@@ -250,20 +250,4 @@ fn place_boxes(c: &mut Canvas, buildings: &[Building], rng: &mut ChaCha8Rng) {
             boxes.push(b);
         }
     }
-}
-
-/// The benchmark tour: 8 targets counter-clockwise from the bottom-left, on the rectangle 15 m
-/// inside the border, each snapped to the nearest admissible cell (`None` when one cannot be).
-fn octagon_tour(world: &World, adm: &[bool]) -> Option<Vec<Point2>> {
-    use std::f64::consts::FRAC_PI_4;
-    let centre = Point2::new(W / 2.0, H / 2.0);
-    let (hx, hy) = (W / 2.0 - 15.0, H / 2.0 - 15.0);
-    (0..8)
-        .map(|k| {
-            let th = -3.0 * FRAC_PI_4 + k as f64 * FRAC_PI_4;
-            let (s, co) = th.sin_cos();
-            let t = (hx / co.abs().max(1e-9)).min(hy / s.abs().max(1e-9));
-            snap(world, adm, Point2::new(centre.x + t * co, centre.y + t * s))
-        })
-        .collect()
 }

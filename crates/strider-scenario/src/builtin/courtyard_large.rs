@@ -80,7 +80,7 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
         rooms.place_boxes(&mut c, a.rng);
         let world = a.finish(&c);
         let adm = a.admissible(&world);
-        let tour = octagon_tour(&world, &adm)?;
+        let tour = octagon_tour(&world, &adm, (W, H), 2.5)?;
         if !connected_from(&world, &adm, tour[0]) {
             return None;
         }
@@ -351,12 +351,18 @@ impl Rooms {
     }
 }
 
-/// The benchmark tour: 8 targets counter-clockwise from the bottom-left, on the rectangle 2.5 m
-/// inside the walls, each snapped to the nearest admissible cell (`None` when one cannot be).
-fn octagon_tour(world: &World, adm: &[bool]) -> Option<Vec<Point2>> {
+/// The benchmark tour of a `w` × `h` m world: 8 targets counter-clockwise from the bottom-left,
+/// on the rectangle `inset` m inside its border, each snapped to the nearest admissible cell
+/// (`None` when one cannot be).
+pub(super) fn octagon_tour(
+    world: &World,
+    adm: &[bool],
+    (w, h): (f64, f64),
+    inset: f64,
+) -> Option<Vec<Point2>> {
     use std::f64::consts::FRAC_PI_4;
-    let centre = Point2::new(W / 2.0, H / 2.0);
-    let (hx, hy) = (W / 2.0 - 2.5, H / 2.0 - 2.5);
+    let centre = Point2::new(w / 2.0, h / 2.0);
+    let (hx, hy) = (w / 2.0 - inset, h / 2.0 - inset);
     (0..8)
         .map(|k| {
             let th = -3.0 * FRAC_PI_4 + k as f64 * FRAC_PI_4;
