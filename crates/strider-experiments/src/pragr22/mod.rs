@@ -9,6 +9,7 @@ pub(crate) use run::report as mission_report;
 mod table5;
 mod table5_merge;
 mod table5_report;
+mod table5_segments;
 mod table5_trials;
 
 pub use figures::write_figures;
@@ -16,4 +17,5 @@ pub use run::{TourRun, run_tour};
 pub use table5::{Table5, assemble, run_trial, table5, trial_count, write as write_table5};
 pub use table5_merge::merge_table5;
 pub use table5_report::{LargeReplanMs, MannWhitneyReport, Relation, Row, Table5Report, markdown};
+pub use table5_segments::SegmentRow;
 pub use table5_trials::{Table5Options, TrialResult};

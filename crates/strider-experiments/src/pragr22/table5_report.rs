@@ -8,6 +8,7 @@ use serde::Serialize;
 use strider_explore::Strategy;
 use strider_explore::evaluate::NavigationMode;
 
+use super::table5_segments::{SegmentRow, segment_rows, segments_markdown};
 use super::table5_trials::{Table5Options, TrialResult};
 use crate::cancel::Completion;
 use crate::stats::{MeanStd, Summary, mann_whitney_u, max, median_max, paired_win_fraction};
@@ -189,6 +190,8 @@ pub struct Table5Report {
     pub rows: Vec<Row>,
     /// The relations.
     pub relations: Vec<Relation>,
+    /// Small tour 1 segment by segment, in every navigation mode.
+    pub tour1_segments: Vec<SegmentRow>,
     /// Replanning latency on the large world.
     pub large_replan_ms: LargeReplanMs,
     /// Wall time, s.
@@ -215,6 +218,7 @@ impl Table5Report {
             completion,
             options: o.clone(),
             relations: relations(&rows),
+            tour1_segments: segment_rows(&trials),
             rows,
             large_replan_ms: LargeReplanMs {
                 median_of_medians: (!medians.is_empty()).then(|| median_max(&medians).0),
@@ -276,6 +280,7 @@ pub fn markdown(r: &Table5Report) -> String {
         );
     }
     relations_markdown(&mut md, &r.relations);
+    segments_markdown(&mut md, &r.tour1_segments);
     let l = &r.large_replan_ms;
     let large_trials = r
         .trial_results

@@ -67,6 +67,11 @@ pub struct TrialResult {
     /// Per benchmark tour (scenario order) and navigation mode: (tour, mode, total_s,
     /// completed).
     pub tours: Vec<Vec<(String, String, f64, bool)>>,
+    /// Per benchmark tour and navigation mode, in the order of `tours`: the time of each
+    /// segment (start → waypoint 1, waypoint 1 → 2, …), s. Empty in trials kept by a build
+    /// that did not record them.
+    #[serde(default)]
+    pub segments_s: Vec<Vec<Vec<f64>>>,
     /// Median replan latency, ms.
     pub replan_ms_median: f64,
     /// Worst replan latency, ms.
@@ -83,6 +88,17 @@ impl TrialResult {
             .iter()
             .find(|t| t.1 == mode.name())
             .map(|t| (t.2, t.3))
+    }
+
+    /// The segment times of the scenario's `index`-th tour driven in `mode`, s (`None` when
+    /// the trial did not record them).
+    pub(crate) fn segments(&self, index: usize, mode: NavigationMode) -> Option<&[f64]> {
+        let k = self
+            .tours
+            .get(index)?
+            .iter()
+            .position(|t| t.1 == mode.name())?;
+        self.segments_s.get(index)?.get(k).map(Vec::as_slice)
     }
 }
 
@@ -255,6 +271,14 @@ pub(crate) fn run_task(task: &Task, o: &Table5Options) -> Result<Option<TrialRes
                             r.completed,
                         )
                     })
+                    .collect()
+            })
+            .collect(),
+        segments_s: tours
+            .iter()
+            .map(|(_, rs)| {
+                rs.iter()
+                    .map(|r| r.segments.iter().map(|s| s.time_s).collect())
                     .collect()
             })
             .collect(),

@@ -1,12 +1,14 @@
 //! `courtyard-small` (Prágr22 §5.1.1): a 6 × 5 m flat courtyard at 0.05 m with gray pavement, a
 //! thin red pavement line and green/brown turf covering about a third of the area.
 //!
-//! Layout rules (every seed):
-//! * a turf patch reaches from the east wall westward across the bottom-right → top-right
-//!   segment of tour 1, so the straight segment crosses turf while a longer pavement detour
-//!   around its west end exists;
-//! * a turf patch covers the top-left waypoint (turf cannot be avoided there);
-//! * further turf blobs bring turf to 31–35 % of the area;
+//! Layout rules (every seed), the paper's two designed features of tour 1 by construction:
+//! * a turf patch reaches from the east edge westward across the bottom-right → top-right
+//!   segment of tour 1, so the straight segment crosses turf, and a pavement detour around
+//!   its west end is kept free of turf over [`DETOUR_HALF_WIDTH_M`] either side, so the
+//!   robot's footprint drives it without touching turf;
+//! * a turf patch covers the top-left waypoint, with turf at least [`TOP_LEFT_TURF_RADIUS_M`]
+//!   around it, so no route reaches it without crossing turf;
+//! * further turf blobs (outside the detour) bring turf to 31–35 % of the area;
 //! * a red pavement line ~0.1 m wide (that cluster erosion must remove) crosses the pavement.
 //!
 //! The courtyard is flat and open as in the paper: no wall rings it. The robot stays inside
@@ -18,10 +20,10 @@ use strider_core::Point2;
 use strider_map::MapParams;
 
 use super::builder::{self, Attempt, Frame, Layout, ScenarioBuilder};
-use super::canvas::Canvas;
+use super::canvas::{Canvas, dist_to_segment};
 use super::courtyard::{self, BROWN, BROWN_TURF, GRAY, GREEN_TURF, RED};
 use super::draw::{uni, wobble};
-use super::placement::{crosses, on_terrain, reach_from, restrict_to, sample_cells};
+use super::placement::{crosses, footprint_clear_of, on_terrain, reach_from, sample_cells};
 use super::terrains::Look;
 use crate::error::ScenarioError;
 use crate::ground_truth::{flood_fill, point_in_mask};
@@ -73,7 +75,7 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
         }
         let world = a.finish(&c);
         let adm = a.admissible(&world);
-        if !tour1_holds(&world, &adm, &corners) {
+        if !tour1_holds(&world, &adm, &corners, a.map.r_robot) {
             return None;
         }
         let tour2 = tour2(&world, &adm, a, corners[0])?;
@@ -108,44 +110,143 @@ fn turf_kind(rng: &mut ChaCha8Rng) -> u8 {
     }
 }
 
-/// The turf: an east patch across the bottom-right → top-right segment, a patch of the other
-/// kind over the top-left corner, and interior blobs up to 31–35 % of the area.
+/// The east turf patch: a rectangle from the east edge across the bottom-right → top-right
+/// segment of tour 1, with a rounded west end.
+struct EastPatch {
+    /// x of the rectangle's west side (the rounded end reaches further west), m.
+    ax: f64,
+    /// y of its bottom, m.
+    by: f64,
+    /// Its height, m.
+    bh: f64,
+    kind: u8,
+    wobble: [(f64, f64, f64); 2],
+}
+
+impl EastPatch {
+    fn draw(rng: &mut ChaCha8Rng) -> Self {
+        let ax = uni(rng, 4.2, 4.8);
+        let by = uni(rng, 1.5, 2.1);
+        let bh = uni(rng, 1.0, 1.5);
+        let kind = turf_kind(rng);
+        let wobble = wobble(rng, TURF_WOBBLE);
+        Self {
+            ax,
+            by,
+            bh,
+            kind,
+            wobble,
+        }
+    }
+
+    fn paint(&self, c: &mut Canvas) {
+        c.rect(self.ax, self.by, W, self.by + self.bh, self.kind, None);
+        let west_end = Point2::new(self.ax, self.by + self.bh / 2.0);
+        let (rx, ry) = (0.35, self.bh / 2.0);
+        c.blob(west_end, rx, ry, 0.0, &self.wobble, self.kind, None);
+    }
+}
+
+/// Amplitudes of the turf outlines' wobble (harmonics 2 and 3).
+const TURF_WOBBLE: [f64; 2] = [0.12, 0.08];
+
+/// The turf, painted so that tour 1 has the paper's two designed features whatever the draws:
+/// an east patch across the bottom-right → top-right segment with a pavement detour around its
+/// west end kept free of turf ([`Detour`]), a patch of the other kind over the top-left corner
+/// with a turf disc of [`TOP_LEFT_TURF_RADIUS_M`] under the waypoint, and interior blobs up to
+/// 31–35 % of the area (outside the detour).
 fn paint_turf(c: &mut Canvas, corners: &[Point2; 4], rng: &mut ChaCha8Rng) {
     use std::f64::consts::PI;
-    let amplitude = [0.12, 0.08];
-    // East patch: a rectangle from the east edge with a rounded west end.
-    let ax = uni(rng, 4.2, 4.8);
-    let by = uni(rng, 1.5, 2.1);
-    let bh = uni(rng, 1.0, 1.5);
-    let t = turf_kind(rng);
-    c.rect(ax, by, W, by + bh, t, None);
-    let wb = wobble(rng, amplitude);
-    let west_end = Point2::new(ax, by + bh / 2.0);
-    c.blob(west_end, 0.35, bh / 2.0, 0.0, &wb, t, None);
+    let east = EastPatch::draw(rng);
+    east.paint(c);
+    let in_east: Vec<bool> = c.terrain.iter().map(|t| TURF.contains(t)).collect();
+    let detour = Detour::around(c, &in_east, corners[1], corners[2]);
     // Top-left patch covering the top-left waypoint.
     let tl = corners[3];
-    let t = if t == GREEN_TURF {
+    let t = if east.kind == GREEN_TURF {
         BROWN_TURF
     } else {
         GREEN_TURF
     };
-    let wb = wobble(rng, amplitude);
+    let wb = wobble(rng, TURF_WOBBLE);
     let (rx, ry) = (uni(rng, 1.1, 1.5), uni(rng, 1.0, 1.3));
     let centre = Point2::new(tl.x + uni(rng, -0.2, 0.3), tl.y + uni(rng, -0.3, 0.2));
     let angle = uni(rng, 0.0, PI);
     c.blob(centre, rx, ry, angle, &wb, t, None);
+    detour.clear(c, &in_east);
     // Interior blobs up to the target fraction.
     let target = uni(rng, 0.31, 0.35);
-    for _ in 0..8 {
+    for _ in 0..INTERIOR_BLOBS {
         if c.fraction(&TURF) >= target {
             break;
         }
         let centre = Point2::new(uni(rng, 1.4, 4.0), uni(rng, 1.2, 4.0));
-        let t = turf_kind(rng);
-        let wb = wobble(rng, amplitude);
+        let kind = turf_kind(rng);
+        let wb = wobble(rng, TURF_WOBBLE);
         let (rx, ry) = (uni(rng, 0.4, 0.9), uni(rng, 0.4, 0.9));
         let angle = uni(rng, 0.0, PI);
-        c.blob(centre, rx, ry, angle, &wb, t, None);
+        c.blob(centre, rx, ry, angle, &wb, kind, None);
+        detour.clear(c, &in_east);
+    }
+    // The top-left waypoint stands deep in turf: no route reaches it without crossing turf.
+    c.segment(tl, tl, TOP_LEFT_TURF_RADIUS_M, t, None, None);
+}
+
+/// Interior blobs drawn at most.
+const INTERIOR_BLOBS: usize = 12;
+
+/// Turf radius under the top-left waypoint, m: every route to the waypoint drives at least this
+/// far over turf (the paper's "area around the top-left waypoint where the turf cannot be
+/// avoided"), twice the footprint radius.
+pub const TOP_LEFT_TURF_RADIUS_M: f64 = 0.5;
+
+/// Turf-free half-width of the pavement detour beside tour 1's bottom-right → top-right
+/// segment, m: the footprint radius (0.25 m), plus the 0.4 m over which the cost transform of
+/// Table 3 (c_loss = 10) raises pavement next to turf that the tall gait crosses at a fifth of
+/// the fast gait's pavement speed ((5 − 1) / 10), plus a cell. The paper's learned robot drives
+/// its detour at full speed (120 s, no spread): pavement the planner sees as pavement.
+pub const DETOUR_HALF_WIDTH_M: f64 = 0.7;
+
+/// The pavement detour around the east patch's west end: from the bottom-right waypoint west
+/// below the patch, north past its west end at [`DETOUR_HALF_WIDTH_M`] from it, and east above
+/// it to the top-right waypoint.
+struct Detour {
+    /// Bottom-right waypoint, south-west and north-west corners, top-right waypoint.
+    polyline: [Point2; 4],
+}
+
+impl Detour {
+    /// The detour from `br` to `tr` around the cells of `east` (the east patch).
+    fn around(c: &Canvas, east: &[bool], br: Point2, tr: Point2) -> Self {
+        let west = (0..east.len())
+            .filter(|&k| east[k])
+            .map(|k| c.center(k).x - c.res / 2.0)
+            .fold(br.x, f64::min);
+        let x = west - DETOUR_HALF_WIDTH_M - c.res;
+        Self {
+            polyline: [br, Point2::new(x, br.y), Point2::new(x, tr.y), tr],
+        }
+    }
+
+    /// Repaints as gray pavement every turf cell but the east patch's own (`east`) within the
+    /// half-width of the detour or inside it (between the detour and segment 2), so that the
+    /// east patch is the only turf the detour goes around. The legs below and above the patch
+    /// run closer to it than the half-width, where the footprint still clears it.
+    fn clear(&self, c: &mut Canvas, east: &[bool]) {
+        let h = DETOUR_HALF_WIDTH_M;
+        let [br, sw, nw, tr] = self.polyline;
+        let inside = |p: Point2| p.x >= sw.x && (br.y..=tr.y).contains(&p.y);
+        let near = |p: Point2| {
+            self.polyline
+                .windows(2)
+                .any(|leg| dist_to_segment(p, leg[0], leg[1]) <= h)
+        };
+        for k in c.cells_in(nw.x - h, br.y - h, c.width_m(), tr.y + h) {
+            let p = c.center(k);
+            if !east[k] && TURF.contains(&c.terrain[k]) && (inside(p) || near(p)) {
+                c.terrain[k] = GRAY;
+            }
+        }
     }
 }
 
@@ -163,10 +264,11 @@ fn paint_red_line(c: &mut Canvas, rng: &mut ChaCha8Rng) {
     );
 }
 
-/// Tour 1's promises: every corner admissible, the first three on pavement and the top-left one
-/// on turf; the straight bottom-right → top-right segment crosses turf while a pavement-only
-/// detour exists.
-fn tour1_holds(world: &World, adm: &[bool], corners: &[Point2; 4]) -> bool {
+/// Tour 1's promises, which the painting guarantees and this checks on the finished world:
+/// every corner admissible, the first three on pavement and the top-left one on turf; the
+/// straight bottom-right → top-right segment crosses turf while a detour exists on which no
+/// cell of the footprint (`r_robot`) touches turf.
+fn tour1_holds(world: &World, adm: &[bool], corners: &[Point2; 4], r_robot: f64) -> bool {
     let pave = [GRAY, RED];
     if !corners.iter().all(|&p| point_in_mask(world, adm, p))
         || !corners[..3].iter().all(|&p| on_terrain(world, p, &pave))
@@ -174,9 +276,9 @@ fn tour1_holds(world: &World, adm: &[bool], corners: &[Point2; 4]) -> bool {
     {
         return false;
     }
-    let pave_adm = restrict_to(world, adm, &pave);
+    let clear = footprint_clear_of(world, adm, &TURF, r_robot);
     let (br, tr) = (corners[1], corners[2]);
-    let detour = reach_from(world, &pave_adm, br)
+    let detour = reach_from(world, &clear, br)
         .zip(world.index_at(tr))
         .is_some_and(|(reach, tr)| reach[tr]);
     crosses(world, br, tr, &TURF) && detour

@@ -20,7 +20,7 @@ mod canvas;
 mod cot_track;
 mod courtyard;
 mod courtyard_large;
-mod courtyard_small;
+pub mod courtyard_small;
 mod draw;
 mod energy_arena;
 mod escape_arena;

@@ -4,6 +4,8 @@
 use rand::{RngExt, rngs::ChaCha8Rng};
 use strider_core::Point2;
 
+use strider_map::passability::{Passability, dense_admissible};
+
 use crate::ground_truth::{flood_fill, nearest_in_mask};
 use crate::model::World;
 
@@ -70,4 +72,33 @@ pub(crate) fn restrict_to(world: &World, mask: &[bool], set: &[u8]) -> Vec<bool>
     (0..mask.len())
         .map(|k| mask[k] && set.contains(&world.terrain[k]))
         .collect()
+}
+
+/// The `mask` cells where a footprint of radius `r_robot` touches no cell whose terrain is in
+/// `set`: the admissibility rule (decision 4) with those terrains as obstacles.
+pub(crate) fn footprint_clear_of(
+    world: &World,
+    mask: &[bool],
+    set: &[u8],
+    r_robot: f64,
+) -> Vec<bool> {
+    let pass: Vec<Passability> = world
+        .terrain
+        .iter()
+        .map(|t| {
+            if set.contains(t) {
+                Passability::Impassable
+            } else {
+                Passability::Passable
+            }
+        })
+        .collect();
+    let clear = dense_admissible(
+        &pass,
+        world.width(),
+        world.height(),
+        r_robot,
+        world.resolution,
+    );
+    clear.iter().zip(mask).map(|(&c, &m)| c && m).collect()
 }
