@@ -39,7 +39,8 @@ def run_python(
     ``exploration_time_s``, ``driven_m``, ``observed_cells``, ``termination``,
     ``cost_samples``, ``decisions``, ``python_s`` (wall time inside Python), ``mission_wall_s``
     and the final ``layers``. An exception raised by the strategy or the model ends the mission
-    (termination ``StrategyFailed``) and is raised here."""
+    (termination ``StrategyFailed``) and is raised here, with the mission up to that point as its
+    ``report`` attribute (a :class:`Report`, when the exception takes attributes)."""
     if not callable(getattr(strategy, "decide", None)):
         raise _strider.StriderError("strategy: needs a decide(snapshot) method")
     if cost_model is not None:
@@ -49,14 +50,25 @@ def run_python(
     from . import _seed, _time_limit  # the package's one check of each
 
     tl = _time_limit(time_limit)
-    d = _strider.run_python(
-        str(scenario),
-        strategy,
-        cost_model,
-        _seed("seed", seed),
-        _seed("world_seed", world_seed),
-        tl,
-        float(decision_period),
-    )
+    try:
+        d = _strider.run_python(
+            str(scenario),
+            strategy,
+            cost_model,
+            _seed("seed", seed),
+            _seed("world_seed", world_seed),
+            tl,
+            float(decision_period),
+        )
+    except Exception as e:
+        partial = getattr(e, "strider_report", None)
+        if isinstance(partial, dict):
+            del e.strider_report
+            e.report = _report(partial)
+        raise
+    return _report(d)
+
+
+def _report(d: dict) -> Report:
     layers = d.pop("layers")
     return Report(d, layers)

@@ -44,9 +44,30 @@ class BadAnswer:
         return {"goal": (0.0, 0.0), "speed": 3}
 
 
+class RaisesLater:
+    """Drives towards a goal for three decisions, then fails."""
+
+    def __init__(self):
+        self.calls = 0
+
+    def decide(self, snap):
+        self.calls += 1
+        if self.calls > 3:
+            raise RuntimeError("strategy bug at decision 4")
+        x, y = snap.get("pose", (1.0, 1.0, 0.0))[:2]
+        return {"goal": (x + 2.0, y)}
+
+
 def test_strategy_errors_reach_the_caller():
     with pytest.raises(RuntimeError, match="strategy bug"):
         strider.run_python(Raises(), time_limit=5)
+    with pytest.raises(RuntimeError, match="decision 4") as failed:
+        strider.run_python(RaisesLater(), time_limit=60)
+    # The mission up to the failure comes with the exception.
+    r = failed.value.report
+    assert r.termination == "StrategyFailed" and r.decisions == 4
+    assert r.exploration_time_s < 60 and r.observed_cells > 0
+    assert int(r.layers["observed"].sum()) == r.observed_cells
     with pytest.raises(ValueError, match="unknown key \"speed\""):
         strider.run_python(BadAnswer(), time_limit=5)
     with pytest.raises(ValueError, match="decide"):

@@ -331,9 +331,7 @@ pub fn run_python<'py>(
     });
     let wall_s = wall.elapsed().as_secs_f64();
     driven.map_err(to_py)?;
-    if let Some(e) = mission.strategy_mut().error.take() {
-        return Err(e);
-    }
+    let failed = mission.strategy_mut().error.take();
     let d = PyDict::new(py);
     let record = mission.record();
     d.set_item("scenario", &sc.name)?;
@@ -354,5 +352,13 @@ pub fn run_python<'py>(
         .layers
         .ok_or_else(|| msg("the mission's final state has no layers"))?;
     d.set_item("layers", to_dict(py, layers, last.cell_size)?)?;
-    Ok(d)
+    match failed {
+        // The mission up to the failure travels with the exception (`strider_report`); an
+        // exception type that takes no attributes is raised as it is.
+        Some(e) => {
+            let _ = e.value(py).setattr("strider_report", d);
+            Err(e)
+        }
+        None => Ok(d),
+    }
 }
