@@ -24,7 +24,9 @@ fn close(a: f64, b: f64) -> bool {
 fn replay_of_a_recorded_mission_gives_the_live_map_and_costs() {
     let sc = Scenario::from_name_or_file("courtyard-small", 1).unwrap();
     let mut params = mission_params(&sc, Strategy::Gtsp, 1).unwrap();
-    params.time_limit_s = 150.0;
+    // Long enough for the live run to learn terrain classes (the fast gait's, after about 70
+    // cost samples), which the replay must reproduce.
+    params.time_limit_s = 250.0;
     let dir = common::temp_dir("replay", "round-trip");
     let file = dir.join("run.mcap");
     let (live, live_log, written) = run_mission(
