@@ -17,6 +17,15 @@ fn is_png(path: &Path) -> bool {
     std::fs::read(path).is_ok_and(|b| b.starts_with(b"\x89PNG\r\n\x1a\n"))
 }
 
+/// Runs `strider tours ARGS --out OUT` and checks that it succeeded.
+fn run_tours(out: &Path, args: &[&str]) {
+    let mut all = vec!["tours"];
+    all.extend_from_slice(args);
+    all.extend(["--out", out.to_str().unwrap()]);
+    let o = strider(&all);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
 #[test]
 fn tours_write_tables_and_figures() {
     let dir = temp_dir("tours", "run");
@@ -96,16 +105,7 @@ fn several_seeds_are_counted_and_runs_repeat() {
 
     // The same seed again gives the same tours.
     let again = temp_dir("tours", "seeds-again");
-    let o = strider(&[
-        "tours",
-        "--tours",
-        "2",
-        "--seed",
-        "4",
-        "--out",
-        again.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    run_tours(&again, &["--tours", "2", "--seed", "4"]);
     assert_eq!(json(&again.join("energy_per_tour.json")), a);
 }
 
@@ -113,20 +113,19 @@ fn several_seeds_are_counted_and_runs_repeat() {
 fn several_worlds_are_pooled() {
     let dir = temp_dir("tours", "worlds");
     let out = dir.to_str().unwrap();
-    let o = strider(&[
-        "tours",
-        "--tours",
-        "2",
-        "--world-seed",
-        "3",
-        "--world-seeds",
-        "2",
-        "--seeds",
-        "2",
-        "--out",
-        out,
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    run_tours(
+        &dir,
+        &[
+            "--tours",
+            "2",
+            "--world-seed",
+            "3",
+            "--world-seeds",
+            "2",
+            "--seeds",
+            "2",
+        ],
+    );
     let w = json(&dir.join("worlds.json"));
     assert_eq!(w["runs"].as_u64(), Some(4));
     assert_eq!(w["world_seeds"], serde_json::json!([3, 4]));
@@ -151,16 +150,7 @@ fn several_worlds_are_pooled() {
     );
     // The same world and seed alone gives the same tours.
     let alone = temp_dir("tours", "worlds-alone");
-    let o = strider(&[
-        "tours",
-        "--tours",
-        "2",
-        "--world-seed",
-        "3",
-        "--out",
-        alone.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    run_tours(&alone, &["--tours", "2", "--world-seed", "3"]);
     assert_eq!(
         json(&alone.join("energy_per_tour.json")),
         json(&dir.join("world-3/seed-1/energy_per_tour.json"))
