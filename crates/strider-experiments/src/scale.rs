@@ -92,6 +92,10 @@ pub struct ScaleWindow {
     pub vertices_median: Option<f64>,
     /// Median all-pairs site-cost time of the window's replans, ms.
     pub all_pairs_ms_median: Option<f64>,
+    /// Median planning-view build time of the window's replans, ms.
+    pub view_ms_median: Option<f64>,
+    /// Median GTSP solve time of the window's replans, ms.
+    pub gtsp_ms_median: Option<f64>,
 }
 
 /// `scale.json`.
@@ -140,6 +144,8 @@ struct Replan {
     data_to_tour_ms: f64,
     vertices: usize,
     all_pairs_ms: f64,
+    view_ms: f64,
+    gtsp_ms: f64,
 }
 
 fn check(o: &ScaleOptions) -> Result<Strategy> {
@@ -200,6 +206,8 @@ pub fn scale(o: &ScaleOptions, out: &Path, progress: &dyn Progress) -> Result<Sc
             data_to_tour_ms: g,
             vertices: p.vertices,
             all_pairs_ms: p.all_pairs_ms,
+            view_ms: p.view_ms,
+            gtsp_ms: p.gtsp_ms,
         })
         .collect();
     let record = mission.record();
@@ -254,6 +262,8 @@ fn windows(samples: &[Sample], replans: &[Replan], window_s: f64) -> Vec<ScaleWi
             data_to_tour_ms: Quantiles::of(&of(|r| r.data_to_tour_ms)),
             vertices_median: Quantiles::of(&of(|r| r.vertices as f64)).map(|q| q.median),
             all_pairs_ms_median: Quantiles::of(&of(|r| r.all_pairs_ms)).map(|q| q.median),
+            view_ms_median: Quantiles::of(&of(|r| r.view_ms)).map(|q| q.median),
+            gtsp_ms_median: Quantiles::of(&of(|r| r.gtsp_ms)).map(|q| q.median),
         });
         prev = end;
     }
@@ -364,20 +374,22 @@ pub fn markdown(r: &ScaleReport) -> String {
     );
     let _ = writeln!(
         md,
-        "| simulated time | cells observed | real-time factor | replan ms (median / p95 / max) | new data → new tour ms | GTSP vertices (median) | all-pairs ms (median) |\n|---|---|---|---|---|---|---|"
+        "| simulated time | cells observed | real-time factor | replan ms (median / p95 / max) | new data → new tour ms | GTSP vertices (median) | view / all-pairs / GTSP ms (medians) |\n|---|---|---|---|---|---|---|"
     );
     for w in &r.windows {
         let opt = |v: Option<f64>| v.map_or("–".into(), |v| format!("{v:.0}"));
         let _ = writeln!(
             md,
-            "| {:.0} s | {} | {:.0}× | {} | {} | {} | {} |",
+            "| {:.0} s | {} | {:.0}× | {} | {} | {} | {} / {} / {} |",
             w.t_end_s,
             w.observed_cells,
             w.real_time_factor,
             fmt_q(&w.replan_ms),
             fmt_q(&w.data_to_tour_ms),
             opt(w.vertices_median),
-            opt(w.all_pairs_ms_median)
+            opt(w.view_ms_median),
+            opt(w.all_pairs_ms_median),
+            opt(w.gtsp_ms_median)
         );
     }
     md
@@ -412,6 +424,8 @@ mod tests {
                 data_to_tour_ms: 2.0 * k as f64,
                 vertices: k,
                 all_pairs_ms: 1.0,
+                view_ms: 1.0,
+                gtsp_ms: 1.0,
             })
             .collect();
         let w = windows(&samples, &replans, 50.0);

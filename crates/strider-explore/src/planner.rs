@@ -5,13 +5,15 @@
 use crate::params::TourSolver;
 use crate::timing::ms_since;
 use rayon::prelude::*;
+use std::sync::{Arc, Mutex, PoisonError};
 use strider_core::{Cell, CellRect, GaitId, Point2};
 use strider_learn::cost_model::GaitCostModel;
 use strider_map::ElevationMap;
 use strider_map::passability::Passability;
 use strider_map::rect::WorldRect;
 use strider_plan::grid::{
-    CostGrid, Dijkstra, SiteCosts, all_pairs, smooth_between, smooth_path, transform,
+    CostGrid, Dijkstra, SiteCostCache, SiteCosts, site_costs, smooth_between, smooth_path,
+    transform,
 };
 use strider_plan::gtsp::{self, Mode, SolverParams};
 use strider_plan::{CostMatrix, Instance};
@@ -38,6 +40,9 @@ pub struct PlanningView {
     /// Footprint offsets δ(r_robot) for the gait choice, computed once per view rather than per
     /// query (the gait is chosen at every control tick).
     footprint: Vec<(i32, i32)>,
+    /// The clusters' portal costs of the site-cost graph, shared with the views that follow
+    /// this one (see [`keep_site_costs_of`](Self::keep_site_costs_of)).
+    site_cache: Arc<Mutex<SiteCostCache>>,
 }
 
 impl PlanningView {
@@ -100,7 +105,24 @@ impl PlanningView {
             best_gait: best.gait,
             grid,
             footprint: strider_core::grid::disc_offsets(map.params().r_robot, d),
+            site_cache: Arc::default(),
         })
+    }
+
+    /// Takes over `previous`'s cached cluster costs, so that [`site_costs`](Self::site_costs)
+    /// on this view recomputes only the clusters whose costs changed since.
+    pub fn keep_site_costs_of(&mut self, previous: &PlanningView) {
+        self.site_cache = Arc::clone(&previous.site_cache);
+    }
+
+    /// Planning costs between all ordered pairs of `sites`: exact on small views, from the
+    /// two-level cluster graph on large ones ([`site_costs`]).
+    pub fn site_costs(&self, sites: &[Cell]) -> SiteCosts {
+        let mut cache = self
+            .site_cache
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
+        site_costs(&self.grid, sites, &mut cache)
     }
 
     /// The rectangle planned over.
@@ -324,7 +346,7 @@ impl TourInstance {
                 owner.push(g);
             }
         }
-        let costs = all_pairs(&view.grid, &sites);
+        let costs = view.site_costs(&sites);
         let reachable: Vec<usize> = (0..sites.len())
             .filter(|&v| v == 0 || costs.get(0, v).is_finite())
             .collect();

@@ -244,13 +244,17 @@ impl TourExplorer {
         if self.view.is_some() && self.view_key == Some(key) {
             return;
         }
-        self.view = PlanningView::build(
+        let mut view = PlanningView::build(
             body.map(),
             &self.models,
             mode,
             self.params.c_loss,
             body.bounds(),
         );
+        if let (Some(new), Some(old)) = (view.as_mut(), self.view.as_ref()) {
+            new.keep_site_costs_of(old);
+        }
+        self.view = view;
         self.view_key = Some(key);
     }
 

@@ -20,6 +20,12 @@ pub struct SiteCosts {
 }
 
 impl SiteCosts {
+    /// A matrix from its `n × n` row-major entries.
+    pub(crate) fn from_rows(n: usize, data: Vec<f64>) -> Self {
+        debug_assert_eq!(data.len(), n * n);
+        Self { n, data }
+    }
+
     /// Number of sites.
     pub fn len(&self) -> usize {
         self.n
