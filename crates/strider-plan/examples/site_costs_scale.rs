@@ -80,7 +80,7 @@ fn main() {
         for a in 0..sites.len() {
             for b in 0..sites.len() {
                 let (e, x) = (exact.get(a, b), two.get(a, b));
-                if a != b && e.is_finite() && x.is_finite() {
+                if a != b && e > 0.0 && e.is_finite() && x.is_finite() {
                     sum += x / e;
                     worst = worst.max(x / e);
                     n += 1;

@@ -153,3 +153,17 @@ fn small_grids_get_the_exact_matrix() {
         0
     );
 }
+
+#[test]
+fn repeated_sites_cost_nothing_between_them() {
+    let g = world(300, 300, 7, 0);
+    let mut sites = sites_of(&g, 3, 10);
+    sites.pop();
+    sites.push(sites[2]);
+    let x = hierarchy::hierarchical(&g, &sites, &mut SiteCostCache::new());
+    assert_eq!((x.get(2, 10), x.get(10, 2)), (0.0, 0.0));
+    for b in 0..sites.len() {
+        assert_eq!(x.get(2, b), x.get(10, b));
+        assert_eq!(x.get(b, 2), x.get(b, 10));
+    }
+}

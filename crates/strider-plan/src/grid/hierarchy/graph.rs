@@ -74,8 +74,15 @@ pub(super) struct Search {
 }
 
 impl Search {
-    /// One-to-all from `source`.
-    pub(super) fn run(&mut self, g: &Csr, source: usize) {
+    /// From `source` until `left` nodes of `wanted` (a range of nodes) are settled or nothing
+    /// is left to settle; costs of nodes not settled by then are upper bounds or `+∞`.
+    pub(super) fn run(
+        &mut self,
+        g: &Csr,
+        source: usize,
+        wanted: std::ops::Range<usize>,
+        mut left: usize,
+    ) {
         let n = g.start.len() - 1;
         self.dist.clear();
         self.dist.resize(n, f64::INFINITY);
@@ -86,6 +93,12 @@ impl Search {
             let u = u as usize;
             if du > self.dist[u] {
                 continue;
+            }
+            if wanted.contains(&u) {
+                left = left.saturating_sub(1);
+                if left == 0 {
+                    return;
+                }
             }
             for &(v, c) in &g.targets[g.start[u]..g.start[u + 1]] {
                 let nd = du + c;
@@ -116,9 +129,12 @@ mod tests {
         g.edge(2, 0, f64::INFINITY);
         let g = g.finish();
         let mut s = Search::default();
-        s.run(&g, 0);
+        s.run(&g, 0, 0..4, 4);
         assert_eq!((s.dist(1), s.dist(2), s.dist(3)), (1.0, 2.0, f64::INFINITY));
-        s.run(&g, 2);
+        s.run(&g, 2, 0..4, 4);
         assert_eq!(s.dist(0), f64::INFINITY);
+        // Stops once node 1 is settled: node 2 keeps the upper bound 5 from node 0.
+        s.run(&g, 0, 1..2, 1);
+        assert_eq!((s.dist(1), s.dist(2)), (1.0, 5.0));
     }
 }

@@ -19,15 +19,16 @@
 
 mod graph;
 mod portals;
+mod searched;
 
 use portals::intersect;
 pub use portals::{CLUSTER, ClusterKey, MAX_RUN, Portal, cluster_of, cluster_rect, portals};
 
 use super::all_pairs::{SiteCosts, all_pairs};
 use super::cost_grid::CostGrid;
-use super::dijkstra::Dijkstra;
 use graph::Graph;
 use rayon::prelude::*;
+use searched::{Scratch, Searched};
 use std::collections::HashMap;
 use strider_core::{Cell, CellRect};
 
@@ -35,22 +36,16 @@ use strider_core::{Cell, CellRect};
 /// view at 0.1 m, where a search per site takes well under a millisecond.
 pub const EXACT_MAX_CELLS: usize = 1 << 16;
 
-/// A cluster's portal cells and the exact costs among them on the cluster alone, with the
-/// costs they were computed from.
-#[derive(Clone, Debug)]
-struct ClusterEntry {
-    rect: CellRect,
-    costs: Vec<f32>,
-    nodes: Vec<Cell>,
-    /// Row-major `nodes × nodes`, `+∞` where the cluster does not connect them.
-    dists: Vec<f64>,
-}
-
 /// What [`site_costs`] keeps from one call to the next: each cluster's portal costs.
 #[derive(Clone, Debug, Default)]
 pub struct SiteCostCache {
     cell_size: f64,
-    clusters: HashMap<ClusterKey, ClusterEntry>,
+    /// Per cluster with portals: the costs among them on the cluster alone.
+    clusters: HashMap<ClusterKey, Searched>,
+    /// Per site: the costs from it to the portals and sites of its window.
+    out_of_site: HashMap<Cell, Searched>,
+    /// Per cluster with sites: the costs from its portals to its sites.
+    into_sites: HashMap<ClusterKey, Searched>,
     /// Clusters whose portal costs the last call computed (not taken from the cache).
     recomputed: usize,
 }
@@ -99,16 +94,18 @@ pub fn hierarchical(grid: &CostGrid, sites: &[Cell], cache: &mut SiteCostCache) 
     let valid: Vec<bool> = sites.iter().map(|&s| grid.is_admissible(s)).collect();
     let mut g = Graph::new(nodes.len() + n);
     add_portal_edges(grid, &nodes, &groups, cache, &mut g);
-    add_site_edges(grid, sites, &valid, &nodes, &groups, &mut g);
+    add_site_edges(grid, sites, &valid, &nodes, &groups, cache, &mut g);
     let g = g.finish();
     let first_site = nodes.len();
+    let wanted = valid.iter().filter(|&&v| v).count();
     let rows: Vec<Vec<f64>> = (0..n)
         .into_par_iter()
         .map_init(graph::Search::default, |search, a| {
             if !valid[a] {
                 return vec![f64::INFINITY; n];
             }
-            search.run(&g, first_site + a);
+            // Every valid site settled: the costs to them are final.
+            search.run(&g, first_site + a, first_site..first_site + n, wanted);
             let mut row: Vec<f64> = (0..n)
                 .map(|b| {
                     if valid[b] {
@@ -156,100 +153,57 @@ fn refresh_clusters(
     cache: &mut SiteCostCache,
 ) {
     if cache.cell_size != grid.cell_size() {
-        cache.clusters.clear();
-        cache.cell_size = grid.cell_size();
+        *cache = SiteCostCache {
+            cell_size: grid.cell_size(),
+            ..SiteCostCache::default()
+        };
     }
     let mut keys: Vec<ClusterKey> = groups.keys().copied().collect();
     keys.sort_unstable();
-    let fresh: Vec<(ClusterKey, Option<ClusterEntry>)> = keys
-        .par_iter()
-        .map_init(Dijkstra::new, |dj, &key| {
-            let rect = cluster_rect(key, grid.rect());
-            let members = &nodes[groups[&key].clone()];
-            let unchanged = cache.clusters.get(&key).is_some_and(|e| {
-                e.rect == rect && e.nodes == members && same_costs(grid, rect, &e.costs)
-            });
+    let jobs: Vec<(ClusterKey, CellRect, Vec<Cell>, Vec<Cell>)> = keys
+        .into_iter()
+        .map(|key| {
+            let members = nodes[groups[&key].clone()].to_vec();
             (
                 key,
-                (!unchanged).then(|| cluster_entry(dj, grid, rect, members)),
+                cluster_rect(key, grid.rect()),
+                members.clone(),
+                members,
             )
         })
         .collect();
-    let mut old = std::mem::take(&mut cache.clusters);
-    cache.recomputed = 0;
+    cache.recomputed = refresh(grid, jobs, &mut cache.clusters);
+}
+
+/// Brings `map` to the searches of `jobs` (key, rect, sources, targets): an entry that is for
+/// the same searches on unchanged costs is kept, the others are computed in parallel, keys not
+/// in `jobs` are dropped. Returns how many were computed.
+fn refresh<K: std::hash::Hash + Eq + Copy + Send + Sync>(
+    grid: &CostGrid,
+    jobs: Vec<(K, CellRect, Vec<Cell>, Vec<Cell>)>,
+    map: &mut HashMap<K, Searched>,
+) -> usize {
+    let fresh: Vec<(K, Option<Searched>)> = jobs
+        .par_iter()
+        .map_init(Scratch::default, |s, (key, rect, sources, targets)| {
+            let prev = map.get(key);
+            let new = Searched::reuse_or_compute(prev, s, grid, *rect, sources, targets);
+            (*key, new)
+        })
+        .collect();
+    let mut old = std::mem::take(map);
+    let mut computed = 0;
     for (key, entry) in fresh {
         let entry = match entry {
             Some(e) => {
-                cache.recomputed += 1;
+                computed += 1;
                 e
             }
-            None => old.remove(&key).expect("an unchanged cluster is cached"),
+            None => old.remove(&key).expect("a reused entry is cached"),
         };
-        cache.clusters.insert(key, entry);
+        map.insert(key, entry);
     }
-}
-
-/// The costs of `grid` over `rect` (inside the grid), row by row.
-fn costs_of(grid: &CostGrid, rect: CellRect) -> Vec<f32> {
-    let mut out = Vec::with_capacity(rect.len());
-    for_rows(grid, rect, |row| out.extend_from_slice(row));
-    out
-}
-
-/// Calls `f` with each row of `grid`'s costs over `rect` (inside the grid), lowest first.
-fn for_rows(grid: &CostGrid, rect: CellRect, mut f: impl FnMut(&[f32])) {
-    let gw = grid.rect().width as usize;
-    let costs = grid.costs();
-    for dj in 0..rect.height as i32 {
-        let Some(k) = grid.index(Cell::new(rect.min.i, rect.min.j + dj)) else {
-            continue;
-        };
-        debug_assert!(k % gw + rect.width as usize <= gw);
-        f(&costs[k..k + rect.width as usize]);
-    }
-}
-
-/// True when `grid` over `rect` holds exactly `costs`.
-fn same_costs(grid: &CostGrid, rect: CellRect, costs: &[f32]) -> bool {
-    let w = rect.width as usize;
-    let mut k = 0;
-    let mut same = costs.len() == rect.len();
-    for_rows(grid, rect, |row| {
-        same = same && row == &costs[k..k + w];
-        k += w;
-    });
-    same
-}
-
-/// A search grid of `grid` cut to `rect`.
-fn sub_grid(grid: &CostGrid, rect: CellRect) -> CostGrid {
-    CostGrid::new(rect, grid.cell_size(), costs_of(grid, rect))
-        .expect("a part of a valid grid is valid")
-}
-
-/// The exact costs among a cluster's portal cells on the cluster alone.
-fn cluster_entry(
-    dj: &mut Dijkstra,
-    grid: &CostGrid,
-    rect: CellRect,
-    nodes: &[Cell],
-) -> ClusterEntry {
-    let sub = sub_grid(grid, rect);
-    let mut dists = Vec::with_capacity(nodes.len() * nodes.len());
-    let (mut row, mut pending) = (Vec::new(), Vec::new());
-    for &u in nodes {
-        if dj.row_into(&sub, u, nodes, &mut pending, &mut row).is_err() {
-            row.clear();
-            row.resize(nodes.len(), f64::INFINITY);
-        }
-        dists.extend_from_slice(&row);
-    }
-    ClusterEntry {
-        rect,
-        costs: sub.into_costs(),
-        nodes: nodes.to_vec(),
-        dists,
-    }
+    computed
 }
 
 /// Portal edges: across each border (one axis step, paid at the cell it leaves) and, from the
@@ -274,11 +228,10 @@ fn add_portal_edges(
     for key in keys {
         let range = groups[key].clone();
         let entry = &cache.clusters[key];
-        let m = range.len();
         for (a, u) in range.clone().enumerate() {
             for (b, v) in range.clone().enumerate() {
                 if a != b {
-                    g.edge(u, v, entry.dists[a * m + b]);
+                    g.edge(u, v, entry.cost(a, b));
                 }
             }
         }
@@ -287,56 +240,70 @@ fn add_portal_edges(
 
 /// Site edges: from each site to the sites and portals of the 3 × 3 clusters around it (a
 /// search on that window), and from the portals of each site's cluster to the site (a search
-/// on the cluster from each portal).
+/// on the cluster from each portal). Both are cached per site and per cluster.
 fn add_site_edges(
     grid: &CostGrid,
     sites: &[Cell],
     valid: &[bool],
     nodes: &[Cell],
     groups: &HashMap<ClusterKey, std::ops::Range<usize>>,
+    cache: &mut SiteCostCache,
     g: &mut Graph,
 ) {
     let first_site = nodes.len();
-    let out_edges: Vec<Vec<(usize, f64)>> = (0..sites.len())
-        .into_par_iter()
-        .map_init(
-            || (Dijkstra::new(), Vec::new(), Vec::new()),
-            |(dj, row, pending), a| {
-                if !valid[a] {
-                    return Vec::new();
-                }
-                let window = window_rect(cluster_of(sites[a]), grid.rect());
-                let mut targets: Vec<(usize, Cell)> = window_clusters(cluster_of(sites[a]))
-                    .filter_map(|key| groups.get(&key))
-                    .flat_map(|r| r.clone().map(|k| (k, nodes[k])))
-                    .collect();
-                targets.extend(
-                    (0..sites.len())
-                        .filter(|&b| b != a && valid[b] && window.contains(sites[b]))
-                        .map(|b| (first_site + b, sites[b])),
-                );
-                let cells: Vec<Cell> = targets.iter().map(|t| t.1).collect();
-                let sub = sub_grid(grid, window);
-                if dj.row_into(&sub, sites[a], &cells, pending, row).is_err() {
-                    return Vec::new();
-                }
-                targets
-                    .iter()
-                    .zip(row.iter())
-                    .map(|(t, &c)| (t.0, c))
-                    .collect()
-            },
-        )
-        .collect();
-    for (a, edges) in out_edges.into_iter().enumerate() {
-        for (to, c) in edges {
-            g.edge(first_site + a, to, c);
+    // Out of each site: its index, and its targets as (graph node, index in its search).
+    let mut outs: Vec<(usize, Vec<(usize, usize)>)> = Vec::new();
+    let mut jobs = Vec::new();
+    for (a, &site) in sites.iter().enumerate() {
+        if !valid[a] {
+            continue;
+        }
+        let window = window_rect(cluster_of(site), grid.rect());
+        let mut targets: Vec<usize> = window_clusters(cluster_of(site))
+            .filter_map(|key| groups.get(&key))
+            .flat_map(|r| r.clone())
+            .collect();
+        targets.extend(
+            (0..sites.len())
+                .filter(|&b| b != a && valid[b] && window.contains(sites[b]))
+                .map(|b| first_site + b),
+        );
+        let cell = |v: usize| {
+            if v < first_site {
+                nodes[v]
+            } else {
+                sites[v - first_site]
+            }
+        };
+        // Sorted and without repeats, so that the search of a cell does not depend on the
+        // sites' order (a repeated site, or the same sites in another call, reuse it).
+        let mut cells: Vec<Cell> = targets.iter().map(|&v| cell(v)).collect();
+        cells.sort_unstable_by_key(|c| (c.j, c.i));
+        cells.dedup();
+        let at: Vec<(usize, usize)> = targets
+            .iter()
+            .map(|&v| {
+                let c = cell(v);
+                (v, cells.partition_point(|x| (x.j, x.i) < (c.j, c.i)))
+            })
+            .collect();
+        jobs.push((site, window, vec![site], cells));
+        outs.push((a, at));
+    }
+    // Duplicate sites ask for the same searches; one job each is enough.
+    jobs.sort_by_key(|j| (j.0.j, j.0.i));
+    jobs.dedup_by_key(|j| j.0);
+    refresh(grid, jobs, &mut cache.out_of_site);
+    for (a, targets) in outs {
+        let searched = &cache.out_of_site[&sites[a]];
+        for (to, b) in targets {
+            g.edge(first_site + a, to, searched.cost(0, b));
         }
     }
     // Into each site: from the portals of its cluster.
     let mut by_cluster: Vec<(ClusterKey, Vec<usize>)> = Vec::new();
     for (a, &s) in sites.iter().enumerate() {
-        if !valid[a] {
+        if !valid[a] || !groups.contains_key(&cluster_of(s)) {
             continue;
         }
         let key = cluster_of(s);
@@ -345,33 +312,22 @@ fn add_site_edges(
             None => by_cluster.push((key, vec![a])),
         }
     }
-    let in_edges: Vec<Vec<(usize, usize, f64)>> = by_cluster
-        .par_iter()
-        .map_init(
-            || (Dijkstra::new(), Vec::new(), Vec::new()),
-            |(dj, row, pending), (key, members)| {
-                let Some(range) = groups.get(key) else {
-                    return Vec::new();
-                };
-                let sub = sub_grid(grid, cluster_rect(*key, grid.rect()));
-                let cells: Vec<Cell> = members.iter().map(|&a| sites[a]).collect();
-                let mut out = Vec::new();
-                for u in range.clone() {
-                    if dj.row_into(&sub, nodes[u], &cells, pending, row).is_ok() {
-                        out.extend(
-                            members
-                                .iter()
-                                .zip(row.iter())
-                                .map(|(&a, &c)| (u, first_site + a, c)),
-                        );
-                    }
-                }
-                out
-            },
-        )
+    let jobs = by_cluster
+        .iter()
+        .map(|(key, members)| {
+            let portals = nodes[groups[key].clone()].to_vec();
+            let cells = members.iter().map(|&a| sites[a]).collect();
+            (*key, cluster_rect(*key, grid.rect()), portals, cells)
+        })
         .collect();
-    for (u, v, c) in in_edges.into_iter().flatten() {
-        g.edge(u, v, c);
+    refresh(grid, jobs, &mut cache.into_sites);
+    for (key, members) in &by_cluster {
+        let searched = &cache.into_sites[key];
+        for (p, u) in groups[key].clone().enumerate() {
+            for (b, &a) in members.iter().enumerate() {
+                g.edge(u, first_site + a, searched.cost(p, b));
+            }
+        }
     }
 }
 
