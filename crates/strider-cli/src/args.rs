@@ -250,6 +250,10 @@ pub struct Table5Args {
     /// modulo N, for batch schedulers; `strider bench merge` joins the shards' folders.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
+    /// Set a strategy parameter of every trial (repeatable), e.g. `--set look_around=false`
+    /// for an ablation; `strider strategies` lists the parameters.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
 }
 
 #[derive(Args, Debug)]

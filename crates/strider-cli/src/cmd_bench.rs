@@ -28,6 +28,7 @@ pub fn table5(a: &Table5Args) -> Result<()> {
         resume: a.resume,
         cancel: interrupt::winds_down().clone(),
         shard: a.shard.as_deref().map(compare::Shard::parse).transpose()?,
+        sets: crate::cmd_run::parse_sets(&a.sets, None)?,
     };
     let bar = Bar::new("{spinner} table 5: {pos}/{len} trials ({elapsed}, eta {eta})");
     let t = run_table5(&o, &a.out, &bar)?;

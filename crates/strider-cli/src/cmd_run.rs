@@ -12,7 +12,7 @@ use crate::interrupt;
 use crate::progress::Bar;
 
 /// `KEY=VALUE` pairs of `--set`, then `--gait` as `gait=NAME`.
-fn parse_sets(sets: &[String], gait: Option<&str>) -> Result<Vec<(String, String)>> {
+pub(crate) fn parse_sets(sets: &[String], gait: Option<&str>) -> Result<Vec<(String, String)>> {
     let mut out = Vec::with_capacity(sets.len() + 1);
     for s in sets {
         let Some((k, v)) = s.split_once('=') else {

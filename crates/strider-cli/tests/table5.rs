@@ -167,3 +167,29 @@ fn bad_table5_options_are_one_line_errors() {
         "{e}"
     );
 }
+
+#[test]
+fn set_applies_strategy_parameters_to_every_trial_and_is_checked() {
+    let dir = temp_dir("table5", "set");
+    let out = dir.join("t5");
+    let o = table5(&out, &["--large-trials", "0", "--set", "look_around=false"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json = read_json(&out.join("table5.json"));
+    assert_eq!(json["set"], serde_json::json!([["look_around", "false"]]));
+    let md = std::fs::read_to_string(out.join("table5.md")).unwrap();
+    assert!(md.contains("`--set look_around=false`"), "{md}");
+    // The kept trials were made with the parameter: resuming without it is refused.
+    let e = one_line_error(&table5(&out, &["--large-trials", "0", "--resume"]));
+    assert!(e.contains("resume with the options"), "{e}");
+
+    let e = one_line_error(&table5(&out, &["--set", "look_around=maybe"]));
+    assert!(
+        e.contains("look_around") && e.contains("true or false"),
+        "{e}"
+    );
+    let e = one_line_error(&table5(&out, &["--set", "no_such_key=1"]));
+    assert!(e.contains("`no_such_key` is not a parameter"), "{e}");
+    let e = one_line_error(&table5(&out, &["--set", "look_around"]));
+    assert!(e.contains("expected KEY=VALUE"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -153,7 +153,17 @@ pub fn check_seed_range(seed: u64, seeds: u64, max: u64) -> Result<()> {
 /// Mission parameters of a Prágr22 strategy from a scenario: the robot profile, the map
 /// parameters and the strategy's `[strategy.<name>]` section.
 pub fn mission_params(sc: &Scenario, strategy: Strategy, seed: u64) -> Result<MissionParams> {
-    let (_, configured) = configure(sc, strategy.name(), &[])?;
+    mission_params_with(sc, strategy, seed, &[])
+}
+
+/// [`mission_params`] with strategy parameters `sets` (KEY, VALUE) over the scenario's section.
+pub fn mission_params_with(
+    sc: &Scenario,
+    strategy: Strategy,
+    seed: u64,
+    sets: &[(String, String)],
+) -> Result<MissionParams> {
+    let (_, configured) = configure(sc, strategy.name(), sets)?;
     configured
         .tour_mission(&robot_spec(sc), seed)
         .context("not a Prágr22 strategy")

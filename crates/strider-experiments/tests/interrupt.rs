@@ -69,6 +69,7 @@ fn a_bench_stopped_before_any_trial_finished_writes_nothing() {
         resume: false,
         cancel,
         shard: None,
+        sets: Vec::new(),
     };
     let t = table5(&o, &out, &Silent).unwrap();
     assert_eq!((t.finished, t.total), (0, 6));

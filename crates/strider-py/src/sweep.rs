@@ -114,6 +114,7 @@ fn table5_options(json: &str) -> PyResult<Table5Options> {
         resume: false,
         cancel: Cancel::new(),
         shard: None,
+        sets: Vec::new(),
     })
 }
 

@@ -25,6 +25,8 @@ struct ShardFile {
     jobs: usize,
     time_limit_s: Option<f64>,
     shard: Option<Shard>,
+    #[serde(default, rename = "set")]
+    sets: Vec<(String, String)>,
     wall_s: f64,
     trial_results: Vec<TrialResult>,
 }
@@ -59,10 +61,11 @@ fn same_table(first: (&ShardFile, Shard), other: (&ShardFile, Shard), dir: &Path
         && a.trials == b.trials
         && a.large_trials == b.large_trials
         && a.world_seeds == b.world_seeds
-        && a.time_limit_s == b.time_limit_s;
+        && a.time_limit_s == b.time_limit_s
+        && a.sets == b.sets;
     if !same {
         bail!(
-            "{}: shard of another table (trials, large trials, world seeds, time limit or shard count differ)",
+            "{}: shard of another table (trials, large trials, world seeds, time limit, --set or shard count differ)",
             dir.display()
         );
     }
@@ -104,6 +107,7 @@ pub fn merge_table5(dirs: &[PathBuf]) -> Result<Table5Report> {
         resume: false,
         cancel: Cancel::new(),
         shard: None,
+        sets: f0.sets.clone(),
     };
     let expected = tasks(&o).len();
     let keys: BTreeSet<_> = trials

@@ -249,6 +249,18 @@ pub fn markdown(r: &Table5Report) -> String {
         r.wall_s,
         o.jobs
     );
+    if !o.sets.is_empty() {
+        let sets: Vec<String> = o
+            .sets
+            .iter()
+            .map(|(k, v)| format!("--set {k}={v}"))
+            .collect();
+        let _ = writeln!(
+            md,
+            "Strategy parameters set for every trial: `{}`.\n",
+            sets.join(" ")
+        );
+    }
     if let Some(s) = o.shard {
         let _ = writeln!(
             md,

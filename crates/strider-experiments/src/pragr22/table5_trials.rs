@@ -16,7 +16,7 @@ use crate::journal::{Journal, Kept};
 use crate::parallel::pool;
 use crate::progress::Progress;
 use crate::stats::median_max;
-use crate::trial::{TrialRecord, load, mission_params, run_mission, run_tours};
+use crate::trial::{TrialRecord, load, mission_params_with, run_mission, run_tours};
 
 /// Options of `strider bench table5` (the first fields of `table5.json`).
 #[derive(Clone, Debug, Serialize)]
@@ -46,6 +46,10 @@ pub struct Table5Options {
     /// shards' folders into the whole table.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shard: Option<Shard>,
+    /// Strategy parameters set for every trial (`--set KEY=VALUE`, e.g. for ablations),
+    /// over the scenarios' `[strategy.<name>]` sections.
+    #[serde(rename = "set", skip_serializing_if = "Vec::is_empty")]
+    pub sets: Vec<(String, String)>,
 }
 
 /// One experiment to run: a world, a strategy, a seed, and which tour modes to drive after.
@@ -159,7 +163,11 @@ impl Task {
 
 /// What else than its task decides a trial's result (the journal's setting).
 pub(crate) fn setting(o: &Table5Options) -> serde_json::Value {
-    serde_json::json!({ "bench": "table5", "time_limit_s": o.time_limit })
+    if o.sets.is_empty() {
+        serde_json::json!({ "bench": "table5", "time_limit_s": o.time_limit })
+    } else {
+        serde_json::json!({ "bench": "table5", "time_limit_s": o.time_limit, "set": o.sets })
+    }
 }
 
 /// The trials of `tasks` an earlier run kept in `journal` (when resuming), and the tasks left.
@@ -233,7 +241,7 @@ pub(crate) fn sort(trials: &mut [TrialResult]) {
 pub(crate) fn run_task(task: &Task, o: &Table5Options) -> Result<Option<TrialResult>> {
     let wall = Instant::now();
     let sc = load(task.scenario, task.world_seed)?;
-    let mut params = mission_params(&sc, task.strategy, task.seed)?;
+    let mut params = mission_params_with(&sc, task.strategy, task.seed, &o.sets)?;
     if let Some(t) = o.time_limit {
         params.time_limit_s = t;
     }
