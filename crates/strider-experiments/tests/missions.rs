@@ -246,3 +246,35 @@ fn stuck_windows_as_samples_can_be_switched_off() {
         "{without} samples without stuck windows, {with} with"
     );
 }
+
+/// The robot's time by activity adds up to the mission's time; the look-around runs with a
+/// narrow camera (`courtyard-small`) and never with an omnidirectional sensor
+/// (`courtyard-large`), nor when switched off.
+#[test]
+fn activity_times_add_up_and_look_around_needs_a_narrow_sensor() {
+    let activity = |name: &str, look_around: bool| {
+        let sc = scenario(name, 1);
+        let mut params = mission_params(&sc, Strategy::Gtsp, 1).expect("params");
+        params.time_limit_s = 300.0;
+        params.look_around = look_around;
+        let mut sim = Simulator::new(&sc, 1).expect("simulator");
+        let mut mission = TourExplorer::mission(params).expect("mission");
+        mission.run(&mut sim).expect("mission runs");
+        let a = mission.strategy().log().activity_s;
+        let t = mission.record().exploration_time_s;
+        assert!(
+            (a.total() - t).abs() < 1.0,
+            "{name}: {} s of activity in {t} s",
+            a.total()
+        );
+        assert!(
+            a.driving > 0.25 * t,
+            "{name}: driving {} of {t} s",
+            a.driving
+        );
+        a
+    };
+    assert!(activity("courtyard-small", true).look_around > 0.0);
+    assert_eq!(activity("courtyard-small", false).look_around, 0.0);
+    assert_eq!(activity("courtyard-large", true).look_around, 0.0);
+}

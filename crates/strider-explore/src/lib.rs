@@ -47,4 +47,4 @@ pub use kernel::{
     Strategy as MissionStrategy, Termination,
 };
 pub use params::{GaitSpec, MissionParams, Rates, Strategy};
-pub use tour_explorer::{MissionLog, PhaseWall, TourExplorer};
+pub use tour_explorer::{Activity, MissionLog, PhaseWall, TourExplorer};

@@ -5,7 +5,7 @@ use serde::Serialize;
 use strider_explore::evaluate::{SegmentResult, TourResult};
 use strider_explore::kernel::TrajectorySample;
 use strider_explore::tour_explorer::ReplanParts;
-use strider_explore::{Mission, MissionLog, PhaseWall, TourExplorer};
+use strider_explore::{Activity, Mission, MissionLog, PhaseWall, TourExplorer};
 
 use crate::run::{Explored, MissionId};
 use crate::stats::median_max;
@@ -140,6 +140,9 @@ pub struct RunReport {
     pub scans_fused: u64,
     /// Wall time per part of the mission loop, s.
     pub phase_wall_s: PhaseWall,
+    /// Robot time per activity (driving, turning, look-around, sampling, stuck reflex,
+    /// waiting), s.
+    pub activity_s: Activity,
     /// Per-gait models.
     pub models: Vec<ModelReport>,
     /// The benchmark tours.

@@ -86,6 +86,7 @@ pub(crate) fn report(
         explored: Explored::of(mission),
         scans_fused: mission.body().map().scan_count(),
         phase_wall_s: log.phase_wall_s,
+        activity_s: log.activity_s,
         models: models(mission, log),
         tours: tour_reports(tours),
         stuck_events: log.stuck_events,

@@ -30,6 +30,9 @@ pub struct MissionLog {
     pub turn_skipped: usize,
     /// Wall time per part of the loop, s.
     pub phase_wall_s: PhaseWall,
+    /// Robot time per activity (driving, turning, look-around, sampling, stuck reflex,
+    /// waiting), s.
+    pub activity_s: super::activity::Activity,
     /// Eq. 11 sums evaluated afresh over all spatial updates.
     pub gain_evaluated: usize,
     /// Eq. 11 sums updated incrementally from nearby map changes over all spatial updates.
@@ -83,6 +86,7 @@ impl MissionLog {
             stuck_events: 0,
             turn_skipped: 0,
             phase_wall_s: PhaseWall::default(),
+            activity_s: Default::default(),
             gain_evaluated: 0,
             gain_updated: 0,
         }

@@ -44,6 +44,7 @@
 //!   exploration ends (decision 25) when no reachable goal remains after the spatial and
 //!   learning modules have both run, or at the time limit.
 
+mod activity;
 mod decide;
 mod goals;
 mod log;
@@ -54,6 +55,7 @@ mod snapshot;
 mod strategy;
 pub(crate) mod stuck;
 
+pub use activity::Activity;
 pub use log::{MissionLog, PhaseWall, ReplanParts};
 
 use crate::kernel::{Every, Manoeuvre, MissionError};
@@ -180,6 +182,8 @@ pub struct TourExplorer {
     last_tour: Vec<(GoalKey, Cell)>,
     /// Module timers, set when the mission starts.
     modules: Option<Modules>,
+    /// The pose and time of the last control tick, for the activity times.
+    last_tick: Option<activity::LastTick>,
 }
 
 impl TourExplorer {
@@ -235,6 +239,7 @@ impl TourExplorer {
             goal_ms_since_replan: (0.0, 0.0),
             learn_generation: 0,
             modules: None,
+            last_tick: None,
             behaviour: Behaviour::of(params.strategy),
             params,
         })

@@ -67,6 +67,7 @@ impl Strategy for TourExplorer {
         t: f64,
     ) -> Option<Termination> {
         let mut m = self.modules?;
+        self.track_activity(body, *state, t);
         self.measure_tick(*state, t);
         if m.spatial.due(t) {
             let w = Instant::now();
