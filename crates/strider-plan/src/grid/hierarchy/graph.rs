@@ -1,6 +1,6 @@
 //! A small directed graph in compressed rows and a reusable Dijkstra over it.
 
-use std::cmp::Ordering;
+use super::super::dijkstra::Entry;
 use std::collections::BinaryHeap;
 
 /// Edges as they are added; [`finish`](Self::finish) sorts them into rows.
@@ -47,25 +47,6 @@ impl Graph {
     }
 }
 
-#[derive(Clone, Copy, PartialEq)]
-struct Entry(f64, u32);
-
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        // Reversed for a min-heap; ties by node for a fixed order.
-        other
-            .0
-            .total_cmp(&self.0)
-            .then_with(|| other.1.cmp(&self.1))
-    }
-}
-
 /// Dijkstra's buffers, kept between searches.
 #[derive(Default)]
 pub(super) struct Search {
@@ -88,8 +69,11 @@ impl Search {
         self.dist.resize(n, f64::INFINITY);
         self.heap.clear();
         self.dist[source] = 0.0;
-        self.heap.push(Entry(0.0, source as u32));
-        while let Some(Entry(du, u)) = self.heap.pop() {
+        self.heap.push(Entry {
+            key: 0.0,
+            idx: source as u32,
+        });
+        while let Some(Entry { key: du, idx: u }) = self.heap.pop() {
             let u = u as usize;
             if du > self.dist[u] {
                 continue;
@@ -104,7 +88,7 @@ impl Search {
                 let nd = du + c;
                 if nd < self.dist[v as usize] {
                     self.dist[v as usize] = nd;
-                    self.heap.push(Entry(nd, v));
+                    self.heap.push(Entry { key: nd, idx: v });
                 }
             }
         }
