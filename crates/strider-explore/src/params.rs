@@ -133,7 +133,7 @@ pub struct MissionParams {
     /// Seed of every random choice of the mission (IGNG batches, GTSP).
     pub seed: u64,
     /// At a reached spatial goal, a robot whose sensors do not see all around turns once on
-    /// the spot (our design choice, not the paper's; default on).
+    /// the spot (our design choice, not the paper's; default off, as in Prágr22 Alg. 1).
     pub look_around: bool,
     /// A replan before the pursued goal is reached keeps that goal first (our design choice,
     /// not the paper's; default on).

@@ -122,7 +122,7 @@ impl Default for TourParams {
             gtsp_max_trials: solver.max_trials,
             gtsp_max_iterations: solver.max_iterations,
             info_gain_spacing_m: None,
-            look_around: true,
+            look_around: false,
             commit_to_goal: true,
             stuck_windows_as_samples: true,
         }
