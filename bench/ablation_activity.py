@@ -53,10 +53,15 @@ def main():
     ap.add_argument("--large-trials", type=int, default=5)
     ap.add_argument("--world-seeds", type=int, default=5)
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--configs", default=",".join(str(k) for k in range(len(CONFIGS))),
+                    help="which configurations, as indices into the list above (default: all)")
+    ap.add_argument("--worlds", default="courtyard-small,courtyard-large")
     a = ap.parse_args()
+    chosen = [CONFIGS[int(k)] for k in a.configs.split(",")]
+    worlds = [w for w in WORLDS if w[0] in a.worlds.split(",")]
     jobs = []
-    for name, sets in CONFIGS:
-        for scenario, strategies in WORLDS:
+    for name, sets in chosen:
+        for scenario, strategies in worlds:
             n = a.small_trials if scenario == "courtyard-small" else a.large_trials
             for strategy in strategies:
                 for k in range(1, n + 1):
@@ -68,8 +73,8 @@ def main():
     for (name, scenario, strategy, *_), (t, act) in zip(jobs, results):
         rows.setdefault((name, scenario, strategy), []).append((t, act))
     print(f"`python3 bench/ablation_activity.py --small-trials {a.small_trials} "
-          f"--large-trials {a.large_trials} --world-seeds {a.world_seeds}`; mean robot time per "
-          "activity, simulated seconds.\n")
+          f"--large-trials {a.large_trials} --world-seeds {a.world_seeds} --configs {a.configs} "
+          f"--worlds {a.worlds}`; mean robot time per activity, simulated seconds.\n")
     print("| configuration | world | strategy | runs | exploration s | "
           + " | ".join(x.replace("_", " ") for x in ACTIVITIES) + " |")
     print("|" + "---|" * (5 + len(ACTIVITIES)))
