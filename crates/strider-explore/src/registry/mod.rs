@@ -529,7 +529,7 @@ mod tests {
             pose_rate_hz: 20.0,
         };
         let sets: Vec<(String, String)> = [
-            ("look_around", "false"),
+            ("look_around", "true"),
             ("commit_to_goal", "false"),
             ("stuck_windows_as_samples", "false"),
             ("gtsp_max_trials", "3"),
@@ -540,13 +540,14 @@ mod tests {
         .collect();
         let c = find("gtsp").unwrap().configure(None, &sets).unwrap();
         let p = c.tour_mission(&robot, 7).unwrap();
-        assert!(!p.look_around && !p.commit_to_goal && !p.stuck_samples);
+        assert!(p.look_around && !p.commit_to_goal && !p.stuck_samples);
         assert_eq!(p.solver.max_trials, 3);
         assert_eq!(p.info_gain_spacing_m, Some(0.5));
         assert_eq!(p.seed, 7);
         let d = find("gtsp").unwrap().configure(None, &[]).unwrap();
         let q = d.tour_mission(&robot, 7).unwrap();
-        assert!(q.look_around && q.commit_to_goal && q.stuck_samples);
+        // The defaults: no look-around (as Prágr22's Alg. 1), commitment and stuck samples on.
+        assert!(!q.look_around && q.commit_to_goal && q.stuck_samples);
         assert!(find("escape").unwrap().fits(&robot).is_err());
         assert!(find("rbcm-greedy").unwrap().fits(&robot).is_ok());
     }
