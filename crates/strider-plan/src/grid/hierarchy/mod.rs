@@ -89,11 +89,12 @@ pub fn hierarchical(grid: &CostGrid, sites: &[Cell], cache: &mut SiteCostCache) 
     if n == 0 {
         return SiteCosts::from_rows(0, Vec::new());
     }
-    let (nodes, groups) = portal_nodes(grid);
+    let crossings = portals(grid);
+    let (nodes, groups) = portal_nodes(&crossings);
     refresh_clusters(grid, &nodes, &groups, cache);
     let valid: Vec<bool> = sites.iter().map(|&s| grid.is_admissible(s)).collect();
     let mut g = Graph::new(nodes.len() + n);
-    add_portal_edges(grid, &nodes, &groups, cache, &mut g);
+    add_portal_edges(grid, &crossings, &nodes, &groups, cache, &mut g);
     add_site_edges(grid, sites, &valid, &nodes, &groups, cache, &mut g);
     let g = g.finish();
     let first_site = nodes.len();
@@ -119,18 +120,12 @@ pub fn hierarchical(grid: &CostGrid, sites: &[Cell], cache: &mut SiteCostCache) 
             row
         })
         .collect();
-    let mut data = Vec::with_capacity(n * n);
-    for (a, row) in rows.into_iter().enumerate() {
-        let mut row = row;
-        row[a] = 0.0;
-        data.extend(row);
-    }
-    SiteCosts::from_rows(n, data)
+    SiteCosts::from_rows(n, rows.concat())
 }
 
 /// The portal cells, sorted by cluster (then row, column), and each cluster's range of them.
-fn portal_nodes(grid: &CostGrid) -> (Vec<Cell>, HashMap<ClusterKey, std::ops::Range<usize>>) {
-    let mut nodes: Vec<Cell> = portals(grid).iter().flat_map(|p| [p.low, p.high]).collect();
+fn portal_nodes(crossings: &[Portal]) -> (Vec<Cell>, HashMap<ClusterKey, std::ops::Range<usize>>) {
+    let mut nodes: Vec<Cell> = crossings.iter().flat_map(|p| [p.low, p.high]).collect();
     nodes.sort_unstable_by_key(|&c| (cluster_of(c).1, cluster_of(c).0, c.j, c.i));
     nodes.dedup();
     let mut groups = HashMap::new();
@@ -210,6 +205,7 @@ fn refresh<K: std::hash::Hash + Eq + Copy + Send + Sync>(
 /// cache, within each cluster.
 fn add_portal_edges(
     grid: &CostGrid,
+    crossings: &[Portal],
     nodes: &[Cell],
     groups: &HashMap<ClusterKey, std::ops::Range<usize>>,
     cache: &SiteCostCache,
@@ -217,7 +213,7 @@ fn add_portal_edges(
 ) {
     let index: HashMap<Cell, usize> = nodes.iter().enumerate().map(|(k, &c)| (c, k)).collect();
     let d = grid.cell_size();
-    for p in portals(grid) {
+    for p in crossings {
         let (lo, hi) = (index[&p.low], index[&p.high]);
         let cost = |c: Cell| grid.cost(c).map_or(f64::INFINITY, |v| v as f64 * d);
         g.edge(lo, hi, cost(p.low));
