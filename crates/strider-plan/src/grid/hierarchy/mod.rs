@@ -103,7 +103,9 @@ pub fn hierarchical(grid: &CostGrid, sites: &[Cell], cache: &mut SiteCostCache) 
         .into_par_iter()
         .map_init(graph::Search::default, |search, a| {
             if !valid[a] {
-                return vec![f64::INFINITY; n];
+                let mut row = vec![f64::INFINITY; n];
+                row[a] = 0.0;
+                return row;
             }
             // Every valid site settled: the costs to them are final.
             search.run(&g, first_site + a, first_site..first_site + n, wanted);
