@@ -56,6 +56,10 @@ pub struct TourSolver {
     pub max_trials: usize,
     /// Iterations per restart.
     pub max_iterations: usize,
+    /// The tour's horizon: at most this many goal sites enter one solve, whole goals nearest
+    /// the robot first (`None`: every goal). Bounds a replan's site costs and GTSP on worlds
+    /// whose frontier holds hundreds of goals.
+    pub max_sites: Option<usize>,
 }
 
 impl Default for TourSolver {
@@ -64,6 +68,7 @@ impl Default for TourSolver {
             time_limit_s: 5.0,
             max_trials: 2,
             max_iterations: 2000,
+            max_sites: None,
         }
     }
 }

@@ -5,6 +5,7 @@
 use crate::params::TourSolver;
 use crate::timing::ms_since;
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::sync::{Arc, Mutex, PoisonError};
 use strider_core::{Cell, CellRect, GaitId, Point2};
 use strider_learn::cost_model::GaitCostModel;
@@ -273,6 +274,12 @@ pub fn plan_tour(
     first: Option<usize>,
 ) -> Option<Tour> {
     let w = std::time::Instant::now();
+    let max_sites = match order {
+        TourOrder::Gtsp(budget) => budget.max_sites,
+        TourOrder::CheapestNext => None,
+    };
+    let (kept, first) = horizon(goals, robot, first, max_sites);
+    let goals: &[TourGoal] = &kept;
     let inst = TourInstance::new(view, robot, goals)?;
     let all_pairs_ms = ms_since(w);
     // The set that must come first, if that goal is still reachable.
@@ -317,6 +324,50 @@ pub fn plan_tour(
         all_pairs_ms,
         gtsp_ms,
     })
+}
+
+/// The goals within the tour's horizon and the committed goal's index among them: all of
+/// `goals` when their sites number at most `max_sites` (or there is no bound); else whole goals
+/// by the straight-line distance of their nearest site from `robot` (ties by index), the
+/// committed goal `first` before all, while their sites fit (at least one goal). A goal beyond
+/// the horizon waits until the robot comes nearer; the next replan's horizon moves with it.
+fn horizon(
+    goals: &[TourGoal],
+    robot: Cell,
+    first: Option<usize>,
+    max_sites: Option<usize>,
+) -> (Cow<'_, [TourGoal]>, Option<usize>) {
+    let total: usize = goals.iter().map(|g| g.sites.len()).sum();
+    let Some(max_sites) = max_sites.filter(|&m| total > m) else {
+        return (Cow::Borrowed(goals), first);
+    };
+    let nearest = |g: &TourGoal| {
+        g.sites
+            .iter()
+            .map(|&s| s.dist_cells(robot))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut by_distance: Vec<(bool, f64, usize)> = goals
+        .iter()
+        .enumerate()
+        .map(|(i, g)| (first != Some(i), nearest(g), i))
+        .collect();
+    by_distance.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let mut kept = Vec::new();
+    let mut sites = 0;
+    let mut kept_first = None;
+    for (_, _, i) in by_distance {
+        let n = goals[i].sites.len();
+        if !kept.is_empty() && sites + n > max_sites {
+            continue;
+        }
+        if first == Some(i) {
+            kept_first = Some(kept.len());
+        }
+        sites += n;
+        kept.push(goals[i].clone());
+    }
+    (Cow::Owned(kept), kept_first)
 }
 
 /// The tour's vertices: the robot (vertex 0) and the sites reachable from it, grouped by goal.

@@ -222,6 +222,71 @@ fn a_committed_goal_comes_first_and_the_rest_is_ordered_behind_it() {
     }
 }
 
+#[test]
+fn a_bounded_horizon_plans_over_the_nearest_goals_and_keeps_the_committed_one() {
+    let m = map();
+    let view = PlanningView::build(&m, &models(), CostMode::Flat, 10.0, None).unwrap();
+    let spatial = |i: i32, j: i32| TourGoal {
+        key: GoalKey::Spatial(Cell::new(i, j)),
+        sites: vec![Cell::new(i, j)],
+    };
+    let goals = vec![
+        spatial(35, 5),
+        TourGoal {
+            key: GoalKey::Cost { gait: 1, class: 3 },
+            sites: vec![Cell::new(9, 9), Cell::new(10, 25)],
+        },
+        spatial(8, 5),
+        spatial(30, 25),
+        spatial(5, 15),
+    ];
+    let robot = Cell::new(5, 5);
+    let keys = |t: &strider_explore::planner::Tour| {
+        let mut k: Vec<GoalKey> = t.order.iter().map(|o| o.0).collect();
+        k.sort();
+        k
+    };
+    let sorted = |mut k: Vec<GoalKey>| {
+        k.sort();
+        k
+    };
+    let bounded = |max_sites: usize, first: Option<usize>| {
+        let solver = TourSolver {
+            max_sites: Some(max_sites),
+            ..TourSolver::default()
+        };
+        plan_tour(
+            &view,
+            robot,
+            &goals,
+            TourOrder::Gtsp(&solver),
+            1,
+            &[],
+            first,
+        )
+        .unwrap()
+    };
+    // Six sites: a bound of six (or more) plans over every goal, as without one.
+    let all = plan_tour(&view, robot, &goals, order(false), 1, &[], None).unwrap();
+    assert_eq!(bounded(6, None).order, all.order);
+    // Four sites: whole goals by the distance of their nearest site, (8, 5), (9, 9) of the
+    // cost goal, (5, 15); (30, 25) no longer fits.
+    let near = bounded(4, None);
+    assert_eq!(
+        keys(&near),
+        sorted(vec![goals[1].key, goals[2].key, goals[4].key])
+    );
+    // Committed to the farthest goal: it comes first and takes its place in the horizon.
+    let committed = bounded(3, Some(0));
+    assert_eq!(committed.order[0].0, goals[0].key);
+    assert_eq!(
+        keys(&committed),
+        sorted(vec![goals[0].key, goals[2].key, goals[4].key])
+    );
+    // A horizon smaller than the nearest goal still plans to that goal.
+    assert_eq!(keys(&bounded(1, None)), vec![goals[2].key]);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(32))]
 

@@ -74,6 +74,9 @@ pub struct TourParams {
     pub gtsp_max_trials: usize,
     /// Iterations per restart of one GTSP solve in a mission.
     pub gtsp_max_iterations: usize,
+    /// Goal sites in one tour solve, nearest goals first (unset: every goal).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_tour_sites: Option<usize>,
     /// Spacing of the Eq. 11 candidate lattice, m (unset: max(0.2 m, r_sensor/20)).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub info_gain_spacing_m: Option<f64>,
@@ -121,6 +124,7 @@ impl Default for TourParams {
             gtsp_time_limit_s: solver.time_limit_s,
             gtsp_max_trials: solver.max_trials,
             gtsp_max_iterations: solver.max_iterations,
+            max_tour_sites: solver.max_sites,
             info_gain_spacing_m: None,
             look_around: false,
             commit_to_goal: true,
@@ -279,6 +283,12 @@ impl StrategyParams for TourParams {
         )
         .count(1, 10_000_000),
         ParamDoc::new(
+            "max_tour_sites",
+            "",
+            "goal sites in one tour solve, whole goals nearest the robot first; unset: every goal (ours)",
+        )
+        .count(2, 1_000_000),
+        ParamDoc::new(
             "info_gain_spacing_m",
             "m",
             "Eq. 11 candidate spacing; auto: max(0.2 m, r_sensor/20) (ours)",
@@ -361,6 +371,7 @@ impl TourParams {
                 time_limit_s: self.gtsp_time_limit_s,
                 max_trials: self.gtsp_max_trials,
                 max_iterations: self.gtsp_max_iterations,
+                max_sites: self.max_tour_sites,
             },
             info_gain_spacing_m: self.info_gain_spacing_m,
             stuck_samples: self.stuck_windows_as_samples,

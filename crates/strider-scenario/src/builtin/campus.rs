@@ -53,7 +53,7 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
     )
     .map(courtyard_large::map_params)
     .sim(courtyard_large::sim_params())
-    .strategy(&courtyard::STRATEGIES, courtyard::table3(true))
+    .strategy(&courtyard::STRATEGIES, strategy_table())
     .terrains(courtyard_large::terrains())
     .time_limit(200_000.0)
     .generate("no connected layout found", |a| {
@@ -78,6 +78,20 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
             tours: vec![builder::tour("benchmark", tour, true)],
         })
     })
+}
+
+/// Goal sites in one tour solve: the frontier of a 200 m world holds hundreds of goals, and a
+/// replan plans over the nearest ones (the courtyards keep every goal).
+const MAX_TOUR_SITES: i64 = 64;
+
+/// courtyard-large's parameters (Prágr22 Table 3, right column) with a bounded tour horizon.
+fn strategy_table() -> toml::Table {
+    let mut t = courtyard::table3(true);
+    t.insert(
+        "max_tour_sites".to_string(),
+        toml::Value::Integer(MAX_TOUR_SITES),
+    );
+    t
 }
 
 /// Lawns (40–60 turf blobs of 4–14 m), 15–25 red squares of 2–6 m, then 4–7 straight 3 m
