@@ -60,6 +60,10 @@ pub struct TourSolver {
     /// the robot first (`None`: every goal). Bounds a replan's site costs and GTSP on worlds
     /// whose frontier holds hundreds of goals.
     pub max_sites: Option<usize>,
+    /// With a bounded horizon, the planning view covers the robot and the horizon's sites
+    /// grown by this margin, m: room for the paths between them to go round what stands in
+    /// the way.
+    pub window_margin_m: f64,
 }
 
 impl Default for TourSolver {
@@ -69,6 +73,7 @@ impl Default for TourSolver {
             max_trials: 2,
             max_iterations: 2000,
             max_sites: None,
+            window_margin_m: 10.0,
         }
     }
 }

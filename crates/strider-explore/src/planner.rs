@@ -59,9 +59,27 @@ impl PlanningView {
         c_loss: f64,
         bounds: Option<&WorldRect>,
     ) -> Option<Self> {
+        Self::build_within(map, models, mode, c_loss, bounds, None)
+    }
+
+    /// [`build`](Self::build) over the part of the map inside `window` (the whole known
+    /// rectangle for `None`): a bounded tour horizon plans on its own neighbourhood of the map
+    /// rather than on all of it. `None` also when the window misses the known rectangle.
+    pub fn build_within(
+        map: &ElevationMap,
+        models: &[GaitCostModel],
+        mode: CostMode,
+        c_loss: f64,
+        bounds: Option<&WorldRect>,
+        window: Option<CellRect>,
+    ) -> Option<Self> {
         let d = map.cell_size();
         let reach = (map.params().r_robot / d).ceil() as u32 + 1;
-        let rect = strider_map::rect::expand(map.known_bounds()?, reach);
+        let known = strider_map::rect::expand(map.known_bounds()?, reach);
+        let rect = match window {
+            Some(w) => strider_map::rect::intersection(known, w)?,
+            None => known,
+        };
         let outside: Vec<bool> = rect
             .cells()
             .map(|c| bounds.is_some_and(|b| !b.contains_cell(c, d)))
@@ -324,6 +342,27 @@ pub fn plan_tour(
         all_pairs_ms,
         gtsp_ms,
     })
+}
+
+/// The planning window of a bounded tour horizon ([`TourSolver::max_sites`]): the rectangle
+/// around `robot` and the sites of the goals within the horizon, grown by `margin` cells on
+/// every side. `None` when the horizon holds every goal, so the whole map is planned on.
+pub fn horizon_window(
+    goals: &[TourGoal],
+    robot: Cell,
+    first: Option<usize>,
+    max_sites: Option<usize>,
+    margin: u32,
+) -> Option<CellRect> {
+    let (kept, _) = horizon(goals, robot, first, max_sites);
+    let Cow::Owned(kept) = kept else {
+        return None;
+    };
+    let mut rect = strider_map::rect::include(None, robot);
+    for &s in kept.iter().flat_map(|g| &g.sites) {
+        rect = strider_map::rect::include(Some(rect), s);
+    }
+    Some(strider_map::rect::expand(rect, margin))
 }
 
 /// The goals within the tour's horizon and the committed goal's index among them: all of

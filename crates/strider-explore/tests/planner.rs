@@ -4,7 +4,8 @@ use proptest::prelude::*;
 use strider_core::{Cell, CellRect, GaitId, Point2, Rgb8};
 use strider_explore::params::TourSolver;
 use strider_explore::planner::{
-    CostMode, GoalKey, PlanningView, TourGoal, TourOrder, farthest_point_subsample, plan_tour,
+    CostMode, GoalKey, PlanningView, TourGoal, TourOrder, farthest_point_subsample, horizon_window,
+    plan_tour,
 };
 use strider_learn::cost_model::{CostModelParams, GaitCostModel};
 use strider_map::ElevationMap;
@@ -285,6 +286,35 @@ fn a_bounded_horizon_plans_over_the_nearest_goals_and_keeps_the_committed_one() 
     );
     // A horizon smaller than the nearest goal still plans to that goal.
     assert_eq!(keys(&bounded(1, None)), vec![goals[2].key]);
+}
+
+#[test]
+fn a_bounded_horizon_plans_on_a_window_around_the_robot_and_its_goals() {
+    let m = map();
+    let full = PlanningView::build(&m, &models(), CostMode::Flat, 10.0, None).unwrap();
+    let spatial = |i: i32, j: i32| TourGoal {
+        key: GoalKey::Spatial(Cell::new(i, j)),
+        sites: vec![Cell::new(i, j)],
+    };
+    let goals = vec![spatial(12, 8), spatial(35, 5), spatial(9, 14)];
+    let robot = Cell::new(5, 5);
+    assert_eq!(horizon_window(&goals, robot, None, None, 3), None);
+    assert_eq!(horizon_window(&goals, robot, None, Some(3), 3), None);
+    // Two of three sites: the window holds the robot and the two nearest goals, plus 3 cells.
+    let w = horizon_window(&goals, robot, None, Some(2), 3).unwrap();
+    assert_eq!(w, CellRect::new(Cell::new(2, 2), 14, 16));
+    let view =
+        PlanningView::build_within(&m, &models(), CostMode::Flat, 10.0, None, Some(w)).unwrap();
+    assert_eq!(view.rect(), w);
+    // Inside the window, away from its edge, the costs are those of the whole map's view.
+    for c in CellRect::new(Cell::new(4, 4), 10, 12).cells() {
+        assert_eq!(view.grid.cost(c), full.grid.cost(c), "{c:?}");
+    }
+    // A window off the map builds nothing.
+    let off = CellRect::new(Cell::new(100, 100), 5, 5);
+    assert!(
+        PlanningView::build_within(&m, &models(), CostMode::Flat, 10.0, None, Some(off)).is_none()
+    );
 }
 
 proptest! {

@@ -77,6 +77,9 @@ pub struct TourParams {
     /// Goal sites in one tour solve, nearest goals first (unset: every goal).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_tour_sites: Option<usize>,
+    /// With a bounded horizon, the margin of the planning view around the robot and the
+    /// horizon's sites, m.
+    pub tour_window_margin_m: f64,
     /// Spacing of the Eq. 11 candidate lattice, m (unset: max(0.2 m, r_sensor/20)).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub info_gain_spacing_m: Option<f64>,
@@ -125,6 +128,7 @@ impl Default for TourParams {
             gtsp_max_trials: solver.max_trials,
             gtsp_max_iterations: solver.max_iterations,
             max_tour_sites: solver.max_sites,
+            tour_window_margin_m: solver.window_margin_m,
             info_gain_spacing_m: None,
             look_around: false,
             commit_to_goal: true,
@@ -289,6 +293,12 @@ impl StrategyParams for TourParams {
         )
         .count(2, 1_000_000),
         ParamDoc::new(
+            "tour_window_margin_m",
+            "m",
+            "with max_tour_sites, the planning view's margin around the robot and the horizon's sites (ours)",
+        )
+        .above(0.0, 10_000.0),
+        ParamDoc::new(
             "info_gain_spacing_m",
             "m",
             "Eq. 11 candidate spacing; auto: max(0.2 m, r_sensor/20) (ours)",
@@ -372,6 +382,7 @@ impl TourParams {
                 max_trials: self.gtsp_max_trials,
                 max_iterations: self.gtsp_max_iterations,
                 max_sites: self.max_tour_sites,
+                window_margin_m: self.tour_window_margin_m,
             },
             info_gain_spacing_m: self.info_gain_spacing_m,
             stuck_samples: self.stuck_windows_as_samples,

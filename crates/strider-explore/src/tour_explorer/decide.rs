@@ -3,11 +3,13 @@
 
 use super::{ReplanParts, TourExplorer};
 use crate::kernel::{Actuators, Body, Termination, drop_visited, start_look_around};
-use crate::planner::{CostMode, GoalKey, PlanningView, Tour, TourGoal, TourOrder, plan_tour};
+use crate::planner::{
+    CostMode, GoalKey, PlanningView, Tour, TourGoal, TourOrder, horizon_window, plan_tour,
+};
 use crate::timing::ms_since;
 use std::time::Instant;
 use strider_core::interface::MotionState;
-use strider_core::{Cell, GaitId};
+use strider_core::{Cell, CellRect, GaitId};
 
 impl TourExplorer {
     /// After a tour decision that planned no new tour: the planning view brought to the
@@ -17,7 +19,8 @@ impl TourExplorer {
             && self.view_key.is_some_and(|k| k.1 != self.learn_generation)
         {
             body.map_mut().update_passability();
-            self.refresh_view(body, CostMode::Learned);
+            let window = self.view_key.and_then(|k| k.3);
+            self.refresh_view(body, CostMode::Learned, window);
         }
     }
 
@@ -130,15 +133,50 @@ impl TourExplorer {
         let w = Instant::now();
         let mode = self.behaviour.costs;
         body.map_mut().update_passability();
-        let wv = Instant::now();
-        self.refresh_view(body, mode);
-        let view_ms = ms_since(wv);
         // A replan re-orders the goals behind the one being pursued rather than abandoning it.
         let commit = if reached || !self.params.commit_to_goal {
             None
         } else {
             self.committed_goal(body, goals)
         };
+        let window = self.horizon_window(body, here, goals, commit);
+        let wv = Instant::now();
+        self.refresh_view(body, mode, window);
+        let mut view_ms = ms_since(wv);
+        let (mut tour, mut path_found) = self.plan_and_follow(body, robot, here, goals, commit);
+        if !path_found && window.is_some() {
+            // Nothing reachable within the window, perhaps only round it: the whole map.
+            let wv = Instant::now();
+            self.refresh_view(body, mode, None);
+            view_ms += ms_since(wv);
+            (tour, path_found) = self.plan_and_follow(body, robot, here, goals, commit);
+        }
+        self.log_replan(ms_since(w), t, view_ms, tour.as_ref());
+        if path_found {
+            self.unreachable_since = None;
+            return None;
+        }
+        self.current = None;
+        robot.follow(&[]);
+        // Nothing reachable: give the map and the models one learning period to change that,
+        // then stop.
+        let since = *self.unreachable_since.get_or_insert(t);
+        (self.learned_once
+            && self.spatial_once
+            && t - since > 1.0 / self.params.rates.learning_hz + 1.0)
+            .then_some(Termination::NoReachableGoals)
+    }
+
+    /// The tour over `goals` from `here` on the current view, with goal `commit` first, and
+    /// the path to its first goal handed to the robot: the tour, and whether a path was found.
+    fn plan_and_follow(
+        &mut self,
+        body: &Body,
+        robot: &mut dyn Actuators,
+        here: Cell,
+        goals: &[TourGoal],
+        commit: Option<usize>,
+    ) -> (Option<Tour>, bool) {
         let view = self.view.take();
         // Plans start where the planning grid lets the centre be: the map may call the robot's
         // cell admissible while the view does not (the exploration bounds, unknown cells), e.g.
@@ -157,20 +195,30 @@ impl TourExplorer {
             _ => false,
         };
         self.view = view;
-        self.log_replan(ms_since(w), t, view_ms, tour.as_ref());
-        if path_found {
-            self.unreachable_since = None;
+        (tour, path_found)
+    }
+
+    /// The planning window of a bounded tour horizon from `here` (see [`horizon_window`]);
+    /// `None` plans on the whole map.
+    fn horizon_window(
+        &self,
+        body: &Body,
+        here: Cell,
+        goals: &[TourGoal],
+        commit: Option<usize>,
+    ) -> Option<CellRect> {
+        if self.behaviour.cheapest_next {
             return None;
         }
-        self.current = None;
-        robot.follow(&[]);
-        // Nothing reachable: give the map and the models one learning period to change that,
-        // then stop.
-        let since = *self.unreachable_since.get_or_insert(t);
-        (self.learned_once
-            && self.spatial_once
-            && t - since > 1.0 / self.params.rates.learning_hz + 1.0)
-            .then_some(Termination::NoReachableGoals)
+        let solver = &self.params.solver;
+        let margin = (solver.window_margin_m / body.map().cell_size()).ceil();
+        horizon_window(
+            goals,
+            here,
+            commit,
+            solver.max_sites,
+            margin.min(u32::MAX as f64) as u32,
+        )
     }
 
     /// The tour over `goals` on `view` from `here`, with goal `commit` first.
@@ -239,17 +287,18 @@ impl TourExplorer {
 
     /// Rebuilds the planning view unless the map (fused scans), the models (learning updates)
     /// and the cost mode are those it was built from.
-    fn refresh_view(&mut self, body: &Body, mode: CostMode) {
-        let key = (body.map().scan_count(), self.learn_generation, mode);
+    fn refresh_view(&mut self, body: &Body, mode: CostMode, window: Option<CellRect>) {
+        let key = (body.map().scan_count(), self.learn_generation, mode, window);
         if self.view.is_some() && self.view_key == Some(key) {
             return;
         }
-        let mut view = PlanningView::build(
+        let mut view = PlanningView::build_within(
             body.map(),
             &self.models,
             mode,
             self.params.c_loss,
             body.bounds(),
+            window,
         );
         if let (Some(new), Some(old)) = (view.as_mut(), self.view.as_ref()) {
             new.keep_site_costs_of(old);

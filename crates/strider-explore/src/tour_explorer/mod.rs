@@ -157,8 +157,8 @@ pub struct TourExplorer {
     turns: TurningTime,
     /// The latest planning view (per-gait grids for Alg. 4, the merged grid for paths).
     view: Option<PlanningView>,
-    /// What the view was built from: (fused scans, learning updates, cost mode).
-    view_key: Option<(u64, u64, CostMode)>,
+    /// What the view was built from: (fused scans, learning updates, cost mode, window).
+    view_key: Option<(u64, u64, CostMode, Option<CellRect>)>,
     /// What the spatial goals were computed from: scans fused, anchor cell, visited goals.
     spatial_key: Option<(u64, Option<Cell>, usize)>,
     /// Wall time of the latest spatial and learning runs since the last replan, ms (see
