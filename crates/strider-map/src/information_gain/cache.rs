@@ -49,6 +49,12 @@ pub struct GainCache {
 #[derive(Default)]
 struct Cached {
     view: Option<GainView>,
+    /// The map's change-log revision the view has followed up to.
+    revision: u64,
+    /// 9·I_cell before the last change of the view: equal to the view's except over
+    /// `icount_dirty`, where the last call recomputed it.
+    prev_icount: Vec<u8>,
+    icount_dirty: Option<CellRect>,
     /// Cached 9·I_model per view cell ([`NOT_CACHED`] = none).
     counts: Vec<u32>,
     /// Per cached view cell, the visibility of each disc target unknown at the last
@@ -63,8 +69,8 @@ struct Changes {
     cells: Vec<Cell>,
     /// Their (new, old) elevations, NaN when unknown.
     z: Vec<(f32, f32)>,
-    /// I_cell before the changes, when it changed (else the current one serves).
-    old_icount: Option<Vec<u8>>,
+    /// Whether I_cell changed (its old values are then [`Cached::prev_icount`]).
+    icount_changed: bool,
     /// The cached candidates to update: (view index, cell).
     deltas: Vec<(usize, Cell)>,
 }
@@ -116,18 +122,27 @@ impl GainCache {
             view: Some(view),
             counts,
             vis,
+            prev_icount,
             ..
         } = &mut self.cached
         else {
             return InfoGain::default();
         };
+        let view: &GainView = view;
         let todo: Vec<(usize, Cell)> = candidates
             .iter()
             .filter_map(|&c| view.rect.index(c).map(|k| (k, c)))
             .filter(|&(k, _)| counts[k] == NOT_CACHED)
             .collect();
         let fresh = evaluate(view, &todo, disc, h, d);
-        let updated = changes.map_or(0, |ch| update(view, counts, vis, &ch, disc, h, d));
+        let updated = changes.map_or(0, |ch| {
+            let old_icount = if ch.icount_changed {
+                prev_icount.as_slice()
+            } else {
+                &view.icount
+            };
+            update(view, old_icount, counts, vis, &ch, disc, h, d)
+        });
         self.last = (todo.len(), updated);
         for (&(k, _), (n, v)) in todo.iter().zip(fresh) {
             counts[k] = n;
@@ -171,7 +186,11 @@ impl Cached {
             Some(v) if self.bounds == bounds.copied() => v,
             _ => {
                 let rect = rect::expand(needed, disc.reach);
-                self.view = Some(GainView::new(map, rect, bounds));
+                let view = GainView::new(map, rect, bounds);
+                self.prev_icount = view.icount.clone();
+                self.icount_dirty = None;
+                self.view = Some(view);
+                self.revision = map.changes().revision();
                 self.counts = vec![NOT_CACHED; rect.len()];
                 self.vis = vec![Vec::new(); rect.len()];
                 self.bounds = bounds.copied();
@@ -206,13 +225,18 @@ impl Cached {
                 vis[nk] = std::mem::take(&mut self.vis[k]);
             }
         }
-        self.view = Some(old.grown(rect, bounds, d));
+        let view = old.grown(rect, bounds, d);
+        self.prev_icount = view.icount.clone();
+        self.icount_dirty = None;
+        self.view = Some(view);
         self.counts = counts;
         self.vis = vis;
     }
 
     /// Follows the map: copies the cells that became observed or moved by more than `dz` into
-    /// the view and returns them (with no deltas yet).
+    /// the view and returns them in the view's row-major order (with no deltas yet). Only the
+    /// blocks the map changed since the last call are read, so the work follows the sensor's
+    /// footprint, not the map.
     fn take_changes(
         &mut self,
         map: &ElevationMap,
@@ -221,37 +245,54 @@ impl Cached {
         dz: f32,
     ) -> Option<Changes> {
         let v = self.view.as_mut()?;
-        let fresh = map.elevation_raster(v.rect);
-        let mut changes = Changes {
-            cells: Vec::new(),
-            z: Vec::new(),
-            old_icount: None,
-            deltas: Vec::new(),
-        };
-        let mut known_changed = false;
-        for (k, (&new, cur)) in fresh.iter().zip(v.elev.iter_mut()).enumerate() {
-            let differs = if new.is_nan() || cur.is_nan() {
-                new.is_nan() != cur.is_nan()
-            } else {
-                (new - *cur).abs() > dz
-            };
-            if differs {
-                known_changed |= new.is_nan() != cur.is_nan();
-                changes.z.push((new, *cur));
-                *cur = new;
-                changes.cells.push(v.rect.cell(k));
+        // `prev_icount` equals the view's I_cell again before this call's changes.
+        if let Some(r) = self.icount_dirty.take() {
+            copy_rect(&v.icount, &mut self.prev_icount, v.rect, r);
+        }
+        let blocks = map.changes().changed_since(self.revision);
+        self.revision = map.changes().revision();
+        let mut found: Vec<(usize, f32, f32)> = Vec::new();
+        let mut known_hull: Option<CellRect> = None;
+        for r in blocks.iter().filter_map(|&b| rect::intersection(b, v.rect)) {
+            let fresh = map.elevation_raster(r);
+            for (c, new) in r.cells().zip(fresh) {
+                let Some(k) = v.rect.index(c) else {
+                    continue;
+                };
+                let cur = v.elev[k];
+                let differs = if new.is_nan() || cur.is_nan() {
+                    new.is_nan() != cur.is_nan()
+                } else {
+                    (new - cur).abs() > dz
+                };
+                if differs {
+                    if new.is_nan() != cur.is_nan() {
+                        known_hull = Some(rect::include(known_hull, c));
+                    }
+                    v.elev[k] = new;
+                    found.push((k, new, cur));
+                }
             }
         }
-        changes.old_icount = known_changed.then(|| {
-            let o = v.icount.clone();
-            v.derive(bounds, d);
-            o
-        });
-        Some(changes)
+        found.sort_unstable_by_key(|f| f.0);
+        let icount_changed = known_hull.is_some();
+        if let Some(hull) = known_hull {
+            // I_cell changes within one cell of a cell that became known.
+            let region = rect::expand(hull, 1);
+            v.derive_in(region, bounds, d);
+            self.icount_dirty = rect::intersection(region, v.rect);
+        }
+        Some(Changes {
+            cells: found.iter().map(|f| v.rect.cell(f.0)).collect(),
+            z: found.iter().map(|f| (f.1, f.2)).collect(),
+            icount_changed,
+            deltas: Vec::new(),
+        })
     }
 
     /// The cached candidates near the `changed` cells to update; drops from the cache those
-    /// that changed themselves, saw too many changes or are no longer candidates.
+    /// that changed themselves, saw too many changes or are no longer candidates. Only the
+    /// area within reach of the changes is looked at.
     fn schedule(
         &mut self,
         changed: &[Cell],
@@ -262,13 +303,17 @@ impl Cached {
         let Some(v) = self.view.as_ref() else {
             return deltas;
         };
-        if changed.is_empty() {
+        let Some(hull) = changed.iter().fold(None, |r, &c| Some(rect::include(r, c))) else {
             return deltas;
-        }
+        };
+        let n = disc.reach + 1;
+        let Some(area) = rect::intersection(rect::expand(hull, n), v.rect) else {
+            return deltas;
+        };
         let mask = |cells: &[Cell]| {
-            let mut m = vec![false; v.rect.len()];
+            let mut m = vec![false; area.len()];
             for &c in cells {
-                if let Some(k) = v.rect.index(c) {
+                if let Some(k) = area.index(c) {
                     m[k] = true;
                 }
             }
@@ -276,26 +321,45 @@ impl Cached {
         };
         let changed_mask = mask(changed);
         let is_candidate = mask(candidates);
-        let (w, h) = (v.rect.width as usize, v.rect.height as usize);
-        let sat = summed_area(&changed_mask, w, h);
+        // Every change lies in `area`, so counts clipped to it are those clipped to the view.
+        let sat = summed_area(&changed_mask, area.width as usize, area.height as usize);
         let max_changes = (disc.entries.len() / DELTA_CHANGES_PER_DISC).max(16) as u32;
-        for (k, n) in self.counts.iter_mut().enumerate() {
-            if *n == NOT_CACHED {
+        for (a, c) in area.cells().enumerate() {
+            let Some(k) = v.rect.index(c) else {
+                continue;
+            };
+            if self.counts[k] == NOT_CACHED {
                 continue;
             }
-            let c = v.rect.cell(k);
-            let near = square_count(&sat, v.rect, c, disc.reach + 1);
+            let near = square_count(&sat, area, c, n);
             if near == 0 {
                 continue;
             }
-            if changed_mask[k] || near > max_changes || !is_candidate[k] {
-                *n = NOT_CACHED;
+            if changed_mask[a] || near > max_changes || !is_candidate[a] {
+                self.counts[k] = NOT_CACHED;
                 self.vis[k] = Vec::new();
             } else {
                 deltas.push((k, c));
             }
         }
         deltas
+    }
+}
+
+/// Copies the cells of `region` (clipped to `rect`) from `src` to `dst`, both over `rect`.
+fn copy_rect(src: &[u8], dst: &mut [u8], rect: CellRect, region: CellRect) {
+    let Some(r) = rect::intersection(region, rect) else {
+        return;
+    };
+    for j in r.min.j..r.min.j + r.height as i32 {
+        let (Some(a), Some(_)) = (
+            rect.index(Cell::new(r.min.i, j)),
+            rect.index(Cell::new(r.min.i + r.width as i32 - 1, j)),
+        ) else {
+            continue;
+        };
+        let b = a + r.width as usize;
+        dst[a..b].copy_from_slice(&src[a..b]);
     }
 }
 
@@ -319,8 +383,10 @@ fn evaluate(
 
 /// Updates the cached counts and bits of the candidates `changes.deltas` from the changes;
 /// returns how many were updated.
+#[allow(clippy::too_many_arguments)]
 fn update(
     view: &GainView,
+    old_icount: &[u8],
     counts: &mut [u32],
     vis: &mut [Vec<u64>],
     changes: &Changes,
@@ -329,7 +395,7 @@ fn update(
     d: f64,
 ) -> usize {
     let old = OldView {
-        icount: changes.old_icount.as_deref().unwrap_or(&view.icount),
+        icount: old_icount,
         changed: &changes.cells,
         changed_z: &changes.z,
     };

@@ -39,15 +39,21 @@ impl Scratch {
     }
 }
 
+/// Side of the blocks over which a [`GainView`] counts its unknown cells, cells.
+const UNKNOWN_BLOCK: usize = 16;
+
 /// A dense view of the map for Eq. 10–11: elevations (NaN = unknown), 9·I_cell of every
-/// unknown cell (k + 1 ∈ 1..=9; 0 for known cells and cells outside the bounds) and a
-/// summed-area table of the unknown mask. I_cell is kept as the integer k + 1 so that sums are
+/// unknown cell (k + 1 ∈ 1..=9; 0 for known cells and cells outside the bounds) and the
+/// number of unknown cells per block. I_cell is kept as the integer k + 1 so that sums are
 /// exact and a delta update gives bit-for-bit the sum a fresh evaluation gives.
 pub(super) struct GainView {
     pub(super) rect: CellRect,
     pub(super) elev: Vec<f32>,
     pub(super) icount: Vec<u8>,
-    sat: Vec<u32>,
+    /// Unknown cells (I_cell > 0) per [`UNKNOWN_BLOCK`]² block of the view, row-major: a
+    /// candidate with no unknown cell in the blocks its disc touches has no gain. Unlike a
+    /// summed-area table, a change updates only the blocks it touches.
+    unknown_blocks: Vec<u32>,
 }
 
 /// Per direction bin, what the raised cells of a disc can do to its targets (see
@@ -78,7 +84,7 @@ impl GainView {
             rect,
             elev,
             icount: Vec::new(),
-            sat: Vec::new(),
+            unknown_blocks: Vec::new(),
         };
         v.derive(bounds, d);
         v
@@ -95,38 +101,93 @@ impl GainView {
         Self::from_elevations(rect, elev, bounds, d)
     }
 
-    /// Recomputes 9·I_cell (Eq. 10) and the summed-area table from the elevations.
+    /// Recomputes 9·I_cell (Eq. 10) and the unknown counts from the elevations.
     pub(super) fn derive(&mut self, bounds: Option<&WorldRect>, d: f64) {
-        let rect = self.rect;
-        let (w, h) = (rect.width as usize, rect.height as usize);
-        let unknown: Vec<bool> = rect
-            .cells()
-            .zip(&self.elev)
-            .map(|(c, e)| e.is_nan() && in_bounds(bounds, c, d))
-            .collect();
         self.icount.clear();
-        self.icount.resize(rect.len(), 0);
-        for y in 0..h {
-            for x in 0..w {
-                if !unknown[y * w + x] {
-                    continue;
-                }
-                // k(ν'): unknown 8-neighbours; outside the view nothing is known either.
-                let k = NEIGHBOURS8
-                    .iter()
-                    .filter(|&&(di, dj)| {
-                        let (nx, ny) = (x as i64 + di as i64, y as i64 + dj as i64);
-                        if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
-                            in_bounds(bounds, rect.cell(y * w + x).offset(di, dj), d)
-                        } else {
-                            unknown[ny as usize * w + nx as usize]
-                        }
-                    })
-                    .count();
-                self.icount[y * w + x] = k as u8 + 1; // Eq. 10, times 9
+        self.icount.resize(self.rect.len(), 0);
+        let (bw, bh) = self.block_dims();
+        self.unknown_blocks.clear();
+        self.unknown_blocks.resize(bw * bh, 0);
+        self.derive_in(self.rect, bounds, d);
+    }
+
+    /// Recomputes 9·I_cell over `region` (clipped to the view) and the unknown counts of the
+    /// blocks it touches. Every other cell keeps its value, so `region` must hold every cell
+    /// whose own or 8-neighbours' elevation went from or to unknown.
+    pub(super) fn derive_in(&mut self, region: CellRect, bounds: Option<&WorldRect>, d: f64) {
+        let Some(region) = crate::rect::intersection(region, self.rect) else {
+            return;
+        };
+        let rect = self.rect;
+        let (w, h) = (rect.width as i64, rect.height as i64);
+        let (x0, y0) = (
+            (region.min.i - rect.min.i) as i64,
+            (region.min.j - rect.min.j) as i64,
+        );
+        let (rw, rh) = (region.width as i64, region.height as i64);
+        // The unknown mask over the region and a ring of one cell around it; outside the
+        // view nothing is known either.
+        let (mw, mh) = (rw + 2, rh + 2);
+        let mut unknown = vec![false; (mw * mh) as usize];
+        for my in 0..mh {
+            for mx in 0..mw {
+                let (x, y) = (x0 - 1 + mx, y0 - 1 + my);
+                let c = rect.min.offset(x as i32, y as i32);
+                let inside = x >= 0 && y >= 0 && x < w && y < h;
+                unknown[(my * mw + mx) as usize] = in_bounds(bounds, c, d)
+                    && (!inside || self.elev[(y * w + x) as usize].is_nan());
             }
         }
-        self.sat = summed_area(&unknown, w, h);
+        for ry in 0..rh {
+            for rx in 0..rw {
+                let m = (ry + 1) * mw + rx + 1;
+                let k = ((y0 + ry) * w + x0 + rx) as usize;
+                self.icount[k] = if unknown[m as usize] {
+                    // k(ν'): unknown 8-neighbours.
+                    let n = NEIGHBOURS8
+                        .iter()
+                        .filter(|&&(di, dj)| unknown[(m + dj as i64 * mw + di as i64) as usize])
+                        .count();
+                    n as u8 + 1 // Eq. 10, times 9
+                } else {
+                    0
+                };
+            }
+        }
+        self.count_unknown_blocks(x0 as usize, y0 as usize, rw as usize, rh as usize);
+    }
+
+    /// Blocks per row and per column of the view.
+    fn block_dims(&self) -> (usize, usize) {
+        (
+            (self.rect.width as usize).div_ceil(UNKNOWN_BLOCK),
+            (self.rect.height as usize).div_ceil(UNKNOWN_BLOCK),
+        )
+    }
+
+    /// Recounts the unknown cells of the blocks that meet the `rw` × `rh` cells at view
+    /// offset (`x0`, `y0`).
+    fn count_unknown_blocks(&mut self, x0: usize, y0: usize, rw: usize, rh: usize) {
+        if rw == 0 || rh == 0 {
+            return;
+        }
+        let (w, h) = (self.rect.width as usize, self.rect.height as usize);
+        let (bw, _) = self.block_dims();
+        for by in y0 / UNKNOWN_BLOCK..=(y0 + rh - 1) / UNKNOWN_BLOCK {
+            for bx in x0 / UNKNOWN_BLOCK..=(x0 + rw - 1) / UNKNOWN_BLOCK {
+                let (xs, ys) = (bx * UNKNOWN_BLOCK, by * UNKNOWN_BLOCK);
+                let (xe, ye) = ((xs + UNKNOWN_BLOCK).min(w), (ys + UNKNOWN_BLOCK).min(h));
+                let n: usize = (ys..ye)
+                    .map(|y| {
+                        self.icount[y * w + xs..y * w + xe]
+                            .iter()
+                            .filter(|&&g| g > 0)
+                            .count()
+                    })
+                    .sum();
+                self.unknown_blocks[by * bw + bx] = n as u32;
+            }
+        }
     }
 
     /// Elevation of `c`, `None` when unknown or outside the view.
@@ -151,9 +212,26 @@ impl GainView {
         s.clear_in(&self.elev, self.rect, t)
     }
 
-    /// Number of unknown cells in the square of half-size `n` around `c` (clipped to the view).
-    fn unknown_in_square(&self, c: Cell, n: u32) -> u32 {
-        square_count(&self.sat, self.rect, c, n)
+    /// Whether the square of half-size `n` around `c` (clipped to the view) may hold an
+    /// unknown cell: false only when every block it meets has none.
+    fn may_see_unknown(&self, c: Cell, n: u32) -> bool {
+        let (w, h) = (self.rect.width as i64, self.rect.height as i64);
+        let (x, y) = (
+            (c.i - self.rect.min.i) as i64,
+            (c.j - self.rect.min.j) as i64,
+        );
+        let n = n as i64;
+        let (x0, x1) = ((x - n).clamp(0, w), (x + n + 1).clamp(0, w));
+        let (y0, y1) = ((y - n).clamp(0, h), (y + n + 1).clamp(0, h));
+        if x0 >= x1 || y0 >= y1 {
+            return false;
+        }
+        let b = UNKNOWN_BLOCK as i64;
+        let (bw, _) = self.block_dims();
+        (y0 / b..=(y1 - 1) / b).any(|by| {
+            (x0 / b..=(x1 - 1) / b)
+                .any(|bx| self.unknown_blocks[by as usize * bw + bx as usize] > 0)
+        })
     }
 
     /// 9·I_model(ν) (Eq. 11).
@@ -183,7 +261,7 @@ impl GainView {
         let Some(sight) = self.sight(c, h, d) else {
             return 0;
         };
-        if self.unknown_in_square(c, disc.reach) == 0 {
+        if !self.may_see_unknown(c, disc.reach) {
             return 0;
         }
         let ray_work = self.gather_targets(c, disc, &mut scratch.targets);
