@@ -98,13 +98,14 @@ impl GaitCostModel {
     /// One [`ClassInfo`] per class represented on the eroded grid, by ascending id, with the
     /// prediction at its median descriptor (information gain filled in by the caller).
     fn class_table(&self, desc: &DescriptorField) -> Vec<ClassInfo> {
-        // Per class: eroded cells, learning cells, and the descriptors of its cells.
-        let mut cells: HashMap<ClassId, (usize, usize, Vec<f64>)> = HashMap::default();
-        for (k, x) in desc.described() {
+        // Per class: eroded cells, learning cells, and the storage indices of its cells (not
+        // copies of their descriptors: on a large map those copies dominated the update).
+        let mut cells: HashMap<ClassId, (usize, usize, Vec<usize>)> = HashMap::default();
+        for (k, _) in desc.described() {
             if let TerrainCell::Class(t) = self.learn_class[k] {
                 let e = cells.entry(t).or_default();
                 e.0 += 1;
-                e.2.extend_from_slice(x);
+                e.2.push(k);
             }
         }
         for c in &self.learn_cells {
@@ -120,9 +121,9 @@ impl GaitCostModel {
         ids.into_iter()
             .filter_map(|id| {
                 let prototype = self.igng.prototype(id)?.to_vec();
-                let (n, l, rows) = &cells[&id];
+                let (n, l, members) = &cells[&id];
                 // Never `None`: a cell gets a class only by classifying its descriptor.
-                let median = component_median(rows, self.dim, &mut column)?;
+                let median = component_median(desc, members, self.dim, &mut column)?;
                 let (cost, variance) = self.predict(&median);
                 let (n, l) = (*n, *l);
                 Some(ClassInfo {
@@ -173,20 +174,26 @@ impl GaitCostModel {
     }
 }
 
-/// Component-wise median of `rows` (row-major, `dim` values per row; the lower median for an
-/// even count); `None` without rows. `column` is scratch space.
-fn component_median(rows: &[f64], dim: usize, column: &mut Vec<f64>) -> Option<Vec<f64>> {
-    let n = rows.len().checked_div(dim)?;
+/// Component-wise median of the descriptors of the cells `members` (storage indices of
+/// described cells; the lower median for an even count); `None` without members. `column` is
+/// scratch space.
+fn component_median(
+    desc: &DescriptorField,
+    members: &[usize],
+    dim: usize,
+    column: &mut Vec<f64>,
+) -> Option<Vec<f64>> {
+    let n = members.len();
     if n == 0 {
         return None;
     }
-    Some(
-        (0..dim)
-            .map(|k| {
-                column.clear();
-                column.extend(rows.iter().skip(k).step_by(dim));
-                *column.select_nth_unstable_by((n - 1) / 2, f64::total_cmp).1
-            })
-            .collect(),
-    )
+    (0..dim)
+        .map(|k| {
+            column.clear();
+            for &m in members {
+                column.push(desc.get_stored(m)?[k]);
+            }
+            Some(*column.select_nth_unstable_by((n - 1) / 2, f64::total_cmp).1)
+        })
+        .collect()
 }
