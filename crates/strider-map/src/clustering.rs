@@ -39,23 +39,34 @@ pub struct SpatialGoal {
 /// Alg. 3 lines 2–11: greedy clustering of `cells` (in the given order) with radius `radius`
 /// (cells, strict `<`) around each cluster's running centre; ties go to the older cluster.
 /// Returns the member indices of each cluster, in creation order.
+///
+/// A long frontier makes hundreds of clusters, so the centres are kept in square buckets of
+/// side `radius`: a centre closer than `radius` to a cell lies in the 3 × 3 buckets around the
+/// cell's own, and two more on every side absorb the rounding of the bucket index. The result
+/// is that of comparing every centre.
 pub fn greedy_clusters(cells: &[Cell], radius: f64) -> Vec<Vec<usize>> {
     // Per cluster: Σi, Σj, n (centres in lattice units; exact for integer sums).
     let mut sums: Vec<(f64, f64, f64)> = Vec::new();
     let mut clusters: Vec<Vec<usize>> = Vec::new();
+    let mut buckets = CentreBuckets::new(radius);
     let r2 = radius * radius;
     for (k, &c) in cells.iter().enumerate() {
         let (x, y) = (c.i as f64, c.j as f64);
         let mut best: Option<(f64, usize)> = None;
-        for (cl, &(sx, sy, n)) in sums.iter().enumerate() {
+        buckets.for_each_near(x, y, |cl| {
+            let (sx, sy, n) = sums[cl];
             let (dx, dy) = (x - sx / n, y - sy / n);
             let d2 = dx * dx + dy * dy;
-            if d2 < r2 && best.is_none_or(|(bd, _)| d2 < bd) {
+            if d2 < r2 && best.is_none_or(|(bd, bc)| d2 < bd || (d2 == bd && cl < bc)) {
                 best = Some((d2, cl));
             }
-        }
+        });
         let cl = match best {
-            Some((_, cl)) => cl,
+            Some((_, cl)) => {
+                let (sx, sy, n) = sums[cl];
+                buckets.remove(cl, sx / n, sy / n);
+                cl
+            }
             None => {
                 sums.push((0.0, 0.0, 0.0));
                 clusters.push(Vec::new());
@@ -64,9 +75,61 @@ pub fn greedy_clusters(cells: &[Cell], radius: f64) -> Vec<Vec<usize>> {
         };
         let s = &mut sums[cl];
         *s = (s.0 + x, s.1 + y, s.2 + 1.0);
+        buckets.insert(cl, s.0 / s.2, s.1 / s.2);
         clusters[cl].push(k);
     }
     clusters
+}
+
+/// Cluster centres by square bucket.
+struct CentreBuckets {
+    side: f64,
+    map: std::collections::HashMap<(i64, i64), Vec<usize>>,
+}
+
+impl CentreBuckets {
+    fn new(side: f64) -> Self {
+        Self {
+            side: if side.is_finite() && side > 0.0 {
+                side
+            } else {
+                f64::MAX
+            },
+            map: std::collections::HashMap::new(),
+        }
+    }
+
+    fn key(&self, x: f64, y: f64) -> (i64, i64) {
+        (
+            (x / self.side).floor() as i64,
+            (y / self.side).floor() as i64,
+        )
+    }
+
+    fn insert(&mut self, cl: usize, x: f64, y: f64) {
+        let k = self.key(x, y);
+        self.map.entry(k).or_default().push(cl);
+    }
+
+    fn remove(&mut self, cl: usize, x: f64, y: f64) {
+        let k = self.key(x, y);
+        if let Some(v) = self.map.get_mut(&k) {
+            v.retain(|&c| c != cl);
+        }
+    }
+
+    /// Calls `visit` with every cluster whose centre lies within two buckets of (x, y)'s.
+    fn for_each_near(&self, x: f64, y: f64, mut visit: impl FnMut(usize)) {
+        let (bx, by) = self.key(x, y);
+        for dy in -2..=2 {
+            for dx in -2..=2 {
+                let k = (bx.saturating_add(dx), by.saturating_add(dy));
+                for &cl in self.map.get(&k).into_iter().flatten() {
+                    visit(cl);
+                }
+            }
+        }
+    }
 }
 
 /// Alg. 3: spatial goals from the information gain field. Clusters with at most `c_min_cells`
@@ -134,6 +197,48 @@ mod tests {
         assert_eq!(cl, vec![vec![0, 1], vec![2, 3], vec![4]]);
         // Strict "<": at radius exactly 1 neighbours do not link.
         assert_eq!(greedy_clusters(&cells[..2], 1.0).len(), 2);
+    }
+
+    /// Alg. 3's clustering comparing every centre, the reference of the bucketed one.
+    fn clusters_by_scanning(cells: &[Cell], radius: f64) -> Vec<Vec<usize>> {
+        let mut sums: Vec<(f64, f64, f64)> = Vec::new();
+        let mut clusters: Vec<Vec<usize>> = Vec::new();
+        for (k, &c) in cells.iter().enumerate() {
+            let (x, y) = (c.i as f64, c.j as f64);
+            let mut best: Option<(f64, usize)> = None;
+            for (cl, &(sx, sy, n)) in sums.iter().enumerate() {
+                let d2 = (x - sx / n).powi(2) + (y - sy / n).powi(2);
+                if d2 < radius * radius && best.is_none_or(|(bd, _)| d2 < bd) {
+                    best = Some((d2, cl));
+                }
+            }
+            let cl = best.map_or_else(
+                || {
+                    sums.push((0.0, 0.0, 0.0));
+                    clusters.push(Vec::new());
+                    clusters.len() - 1
+                },
+                |(_, cl)| cl,
+            );
+            let s = &mut sums[cl];
+            *s = (s.0 + x, s.1 + y, s.2 + 1.0);
+            clusters[cl].push(k);
+        }
+        clusters
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn bucketed_clustering_equals_scanning_every_centre(
+            pts in proptest::collection::vec((-60i32..60, -60i32..60), 0..300),
+            radius in 0.5f64..20.0,
+        ) {
+            let cells: Vec<Cell> = pts.iter().map(|&(i, j)| Cell::new(i, j)).collect();
+            proptest::prop_assert_eq!(
+                greedy_clusters(&cells, radius),
+                clusters_by_scanning(&cells, radius)
+            );
+        }
     }
 
     #[test]

@@ -3,7 +3,6 @@
 
 use crate::map::ElevationMap;
 use std::collections::VecDeque;
-use strider_core::grid::NEIGHBOURS8;
 use strider_core::{Cell, CellRect};
 
 /// The set of cells reachable from a start cell, as a bitmap over the map's known bounds.
@@ -76,7 +75,10 @@ impl Reachability {
         self.fill(map, start);
     }
 
-    /// The flood fill from `start` over `self.admissible`.
+    /// The flood fill from `start` over `self.admissible`, by row spans: each span of
+    /// admissible cells is marked in one sweep and seeds the spans it touches (diagonals
+    /// included) in the rows above and below. The same cells as a cell-by-cell search, with
+    /// sequential memory access and no division per cell.
     fn fill(&mut self, map: &ElevationMap, start: Cell) {
         self.reach.clear();
         self.reach.resize(self.rect.len(), false);
@@ -88,24 +90,61 @@ impl Reachability {
         if !map.is_observed(start) {
             return;
         }
-        self.reach[s] = true;
-        self.count = 1;
-        self.queue.push_back(s);
-        let (w, h) = (self.rect.width as i64, self.rect.height as i64);
-        while let Some(k) = self.queue.pop_front() {
-            let (x, y) = ((k as i64) % w, (k as i64) / w);
-            for &(di, dj) in &NEIGHBOURS8 {
-                let (nx, ny) = (x + di as i64, y + dj as i64);
-                if nx < 0 || ny < 0 || nx >= w || ny >= h {
-                    continue;
-                }
-                let nk = (ny * w + nx) as usize;
-                if self.admissible[nk] && !self.reach[nk] {
-                    self.reach[nk] = true;
-                    self.count += 1;
-                    self.queue.push_back(nk);
-                }
+        let (w, h) = (self.rect.width as usize, self.rect.height as usize);
+        let (sx, sy) = (s % w, s / w);
+        if self.admissible[s] {
+            self.queue.push_back(s);
+        } else {
+            // The start itself need not be admissible; the fill goes on from its neighbours.
+            self.reach[s] = true;
+            self.count = 1;
+            self.seed_row(sx, sx, sy, -1, w, h);
+            self.seed_row(sx, sx, sy, 1, w, h);
+            self.seed_row(sx.saturating_sub(1), (sx + 1).min(w - 1), sy, 0, w, h);
+        }
+        while let Some(k) = self.queue.pop_back() {
+            if self.reach[k] {
+                continue;
             }
+            let (x, y) = (k % w, k / w);
+            let row = y * w;
+            let mut x0 = x;
+            while x0 > 0 && self.admissible[row + x0 - 1] && !self.reach[row + x0 - 1] {
+                x0 -= 1;
+            }
+            let mut x1 = x;
+            while x1 + 1 < w && self.admissible[row + x1 + 1] && !self.reach[row + x1 + 1] {
+                x1 += 1;
+            }
+            self.reach[row + x0..=row + x1].fill(true);
+            self.count += x1 - x0 + 1;
+            self.seed_row(x0, x1, y, -1, w, h);
+            self.seed_row(x0, x1, y, 1, w, h);
+        }
+    }
+
+    /// Queues the first cell of every run of admissible, unreached cells in row `y + dy`
+    /// between columns `x0 − 1` and `x1 + 1` (the 8-neighbours of the span `x0..=x1` of row
+    /// `y`; `dy = 0` scans row `y` itself over `x0..=x1`).
+    fn seed_row(&mut self, x0: usize, x1: usize, y: usize, dy: i64, w: usize, h: usize) {
+        let ny = y as i64 + dy;
+        if ny < 0 || ny >= h as i64 {
+            return;
+        }
+        let row = ny as usize * w;
+        let (from, to) = if dy == 0 {
+            (x0, x1)
+        } else {
+            (x0.saturating_sub(1), (x1 + 1).min(w - 1))
+        };
+        let mut in_run = false;
+        for x in from..=to {
+            let k = row + x;
+            let open = self.admissible[k] && !self.reach[k];
+            if open && !in_run {
+                self.queue.push_back(k);
+            }
+            in_run = open;
         }
     }
 
@@ -217,6 +256,7 @@ mod tests {
     use crate::params::MapParams;
     use crate::testing::{block, known};
     use strider_core::Rgb8;
+    use strider_core::grid::NEIGHBOURS8;
 
     #[test]
     fn wall_splits_reachable_region() {
@@ -245,7 +285,50 @@ mod tests {
         assert_eq!(r.count(), 0);
     }
 
+    /// The cells an 8-connected breadth-first search reaches over `adm` (w × h) from `s`,
+    /// which is reached even when not admissible: the reference of the span fill.
+    fn reached_by_search(adm: &[bool], w: usize, h: usize, s: usize) -> Vec<bool> {
+        let mut reach = vec![false; adm.len()];
+        reach[s] = true;
+        let mut queue = VecDeque::from([s]);
+        while let Some(k) = queue.pop_front() {
+            let (x, y) = ((k % w) as i64, (k / w) as i64);
+            for &(di, dj) in &NEIGHBOURS8 {
+                let (nx, ny) = (x + di as i64, y + dj as i64);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let nk = ny as usize * w + nx as usize;
+                if adm[nk] && !reach[nk] {
+                    reach[nk] = true;
+                    queue.push_back(nk);
+                }
+            }
+        }
+        reach
+    }
+
     proptest::proptest! {
+        /// The span fill reaches the cells a cell-by-cell search reaches, from admissible and
+        /// inadmissible starts, through diagonal gaps and around concave walls.
+        #[test]
+        fn span_fill_equals_a_breadth_first_search(
+            adm in proptest::collection::vec(proptest::bool::weighted(0.6), 13 * 11),
+            start in 0usize..13 * 11,
+        ) {
+            let (w, h) = (13usize, 11usize);
+            let mut m = ElevationMap::new(MapParams { cell_size: 0.1, ..MapParams::default() });
+            for k in 0..w * h {
+                m.set_cell(Cell::new((k % w) as i32, (k / w) as i32), 0.0, 1e-4, Rgb8::default());
+            }
+            let rect = CellRect::new(Cell::new(0, 0), w as u32, h as u32);
+            let start_cell = Cell::new((start % w) as i32, (start / w) as i32);
+            let r = Reachability::from_admissible(&m, start_cell, rect, &adm);
+            let want = reached_by_search(&adm, w, h, start);
+            proptest::prop_assert_eq!(r.bitmap(), &want[..]);
+            proptest::prop_assert_eq!(r.count(), want.iter().filter(|&&b| b).count());
+        }
+
         /// The ring search finds what a scan of every cell finds (nearest, ties row-major).
         #[test]
         fn ring_search_equals_a_full_scan(
