@@ -423,15 +423,28 @@ impl Igng {
                 len: descriptors.len(),
             });
         }
-        let rows = descriptors.len() / self.dim;
+        let dim = self.dim;
+        let rows = descriptors.len() / dim;
+        Ok(self.train_rows(rows, |r| &descriptors[r * dim..(r + 1) * dim], batches))
+    }
+
+    /// [`train`](Self::train) on `rows` descriptors read through `row` (each of `dim`
+    /// values), so that a caller whose descriptors are not one contiguous slice need not copy
+    /// them: the same rows in the same order give the same network.
+    pub fn train_rows<'a, D: Copy + Into<f64> + 'a>(
+        &mut self,
+        rows: usize,
+        row: impl Fn(usize) -> &'a [D],
+        batches: usize,
+    ) -> TrainReport {
         let mut report = TrainReport {
             rows,
             ..TrainReport::default()
         };
         let mut valid: Vec<usize> = Vec::with_capacity(rows);
         for r in 0..rows {
-            let row = &descriptors[r * self.dim..(r + 1) * self.dim];
-            if row.iter().all(|&v| v.into().is_finite()) {
+            let x = row(r);
+            if x.len() == self.dim && x.iter().all(|&v| v.into().is_finite()) {
                 valid.push(r);
             } else {
                 report.rejected_rows += 1;
@@ -439,7 +452,7 @@ impl Igng {
         }
         self.rejected += report.rejected_rows as u64;
         if valid.is_empty() {
-            return Ok(report);
+            return report;
         }
         let removed_before = self.removed;
         let take = self.params.batch.min(valid.len());
@@ -452,10 +465,7 @@ impl Igng {
                 valid.swap(k, j);
             }
             for &r in &valid[..take] {
-                for (xi, &v) in x
-                    .iter_mut()
-                    .zip(&descriptors[r * self.dim..(r + 1) * self.dim])
-                {
+                for (xi, &v) in x.iter_mut().zip(row(r)) {
                     *xi = v.into();
                 }
                 match self.adapt_valid(&x) {
@@ -467,7 +477,7 @@ impl Igng {
             }
         }
         report.removed = self.removed - removed_before;
-        Ok(report)
+        report
     }
 
     /// One step of Alg. 11 for measurement `x`. Errors (and counts) non-finite measurements.

@@ -57,16 +57,16 @@ impl GaitCostModel {
     /// Alg. 7 lines 2–6: adapt the IGNG with a batch of n^IGNG descriptors drawn at random
     /// (by the IGNG's seeded generator) from the described cells.
     fn cluster(&mut self, desc: &DescriptorField) -> Result<(), CostModelError> {
-        let mut rows = Vec::with_capacity(desc.described_count() * self.dim);
-        for (_, x) in desc.described() {
-            rows.extend_from_slice(x);
-        }
-        if rows.is_empty() {
+        // The described cells in row-major order, read in place rather than copied.
+        let cells = desc.described_indices();
+        if cells.is_empty() {
             return Ok(());
         }
-        self.igng
-            .train(&rows, 1)
-            .map_err(|e| CostModelError::Params(e.to_string()))?;
+        self.igng.train_rows(
+            cells.len(),
+            |r| desc.get_stored(cells[r] as usize).unwrap_or(&[]),
+            1,
+        );
         Ok(())
     }
 
