@@ -58,7 +58,7 @@ struct Cached {
     /// Cached 9·I_model per view cell ([`NOT_CACHED`] = none).
     counts: Vec<u32>,
     /// Per cached view cell, the visibility of each disc target unknown at the last
-    /// evaluation (one bit per disc entry); empty when not cached.
+    /// evaluation (one bit per disc entry); empty when not cached or when no bit is set.
     vis: Vec<Vec<u64>>,
     bounds: Option<WorldRect>,
 }
@@ -376,9 +376,29 @@ fn evaluate(
         .map_init(Scratch::default, |s, &(_, c)| {
             let mut vis = vec![0u64; words];
             let n = view.model_count_with(c, disc, h, d, s, Some(&mut vis));
-            (n, vis)
+            (n, compact(vis))
         })
         .collect()
+}
+
+/// Visibility bits as stored: none at all when no target is visible, which is the case of
+/// every candidate without unknown cells in sight (most of an explored map), so that memory
+/// follows the frontier rather than the explored area.
+fn compact(bits: Vec<u64>) -> Vec<u64> {
+    if bits.iter().all(|&w| w == 0) {
+        Vec::new()
+    } else {
+        bits
+    }
+}
+
+/// Stored visibility bits of a disc of `words` words, expanded for an update.
+fn expand(bits: Vec<u64>, words: usize) -> Vec<u64> {
+    if bits.is_empty() {
+        vec![0; words]
+    } else {
+        bits
+    }
 }
 
 /// Updates the cached counts and bits of the candidates `changes.deltas` from the changes;
@@ -399,10 +419,11 @@ fn update(
         changed: &changes.cells,
         changed_z: &changes.z,
     };
+    let words = disc.entries.len().div_ceil(64);
     let mut work: Vec<(usize, Cell, Vec<u64>, i64)> = changes
         .deltas
         .iter()
-        .map(|&(k, c)| (k, c, std::mem::take(&mut vis[k]), 0))
+        .map(|&(k, c)| (k, c, expand(std::mem::take(&mut vis[k]), words), 0))
         .collect();
     work.par_iter_mut()
         .for_each_init(Scratch::default, |s, (_, c, bits, dn)| {
@@ -412,7 +433,7 @@ fn update(
         let n = counts[k] as i64 + dn;
         debug_assert!(n >= 0, "negative Eq. 11 count");
         counts[k] = n.max(0) as u32;
-        vis[k] = bits;
+        vis[k] = compact(bits);
     }
     changes.deltas.len()
 }
