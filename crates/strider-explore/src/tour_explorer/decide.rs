@@ -285,8 +285,9 @@ impl TourExplorer {
         });
     }
 
-    /// Rebuilds the planning view unless the map (fused scans), the models (learning updates)
-    /// and the cost mode are those it was built from.
+    /// Rebuilds the planning view over `window` (the whole map for `None`) unless the map
+    /// (fused scans), the models (learning updates), the cost mode and the window are those it
+    /// was built from.
     fn refresh_view(&mut self, body: &Body, mode: CostMode, window: Option<CellRect>) {
         let key = (body.map().scan_count(), self.learn_generation, mode, window);
         if self.view.is_some() && self.view_key == Some(key) {
