@@ -352,14 +352,10 @@ fn copy_rect(src: &[u8], dst: &mut [u8], rect: CellRect, region: CellRect) {
         return;
     };
     for j in r.min.j..r.min.j + r.height as i32 {
-        let (Some(a), Some(_)) = (
-            rect.index(Cell::new(r.min.i, j)),
-            rect.index(Cell::new(r.min.i + r.width as i32 - 1, j)),
-        ) else {
-            continue;
-        };
-        let b = a + r.width as usize;
-        dst[a..b].copy_from_slice(&src[a..b]);
+        if let Some(a) = rect.index(Cell::new(r.min.i, j)) {
+            let b = a + r.width as usize;
+            dst[a..b].copy_from_slice(&src[a..b]);
+        }
     }
 }
 
