@@ -57,8 +57,9 @@ pub struct TourSolver {
     /// Iterations per restart.
     pub max_iterations: usize,
     /// The tour's horizon: at most this many goal sites enter one solve, whole goals nearest
-    /// the robot first (`None`: every goal). Bounds a replan's site costs and GTSP on worlds
-    /// whose frontier holds hundreds of goals.
+    /// the robot first (`None`: every goal); a replan with none of them reachable plans every
+    /// goal. Bounds a replan's site costs and GTSP on worlds whose frontier holds hundreds of
+    /// goals.
     pub max_sites: Option<usize>,
     /// With a bounded horizon, the planning view covers the robot and the horizon's sites
     /// grown by this margin, m: room for the paths between them to go round what stands in

@@ -292,12 +292,6 @@ pub fn plan_tour(
     first: Option<usize>,
 ) -> Option<Tour> {
     let w = std::time::Instant::now();
-    let max_sites = match order {
-        TourOrder::Gtsp(budget) => budget.max_sites,
-        TourOrder::CheapestNext => None,
-    };
-    let (kept, first) = horizon(goals, robot, first, max_sites);
-    let goals: &[TourGoal] = &kept;
     let inst = TourInstance::new(view, robot, goals)?;
     let all_pairs_ms = ms_since(w);
     // The set that must come first, if that goal is still reachable.
@@ -344,25 +338,14 @@ pub fn plan_tour(
     })
 }
 
-/// The planning window of a bounded tour horizon ([`TourSolver::max_sites`]): the rectangle
-/// around `robot` and the sites of the goals within the horizon, grown by `margin` cells on
-/// every side. `None` when the horizon holds every goal, so the whole map is planned on.
-pub fn horizon_window(
-    goals: &[TourGoal],
-    robot: Cell,
-    first: Option<usize>,
-    max_sites: Option<usize>,
-    margin: u32,
-) -> Option<CellRect> {
-    let (kept, _) = horizon(goals, robot, first, max_sites);
-    let Cow::Owned(kept) = kept else {
-        return None;
-    };
+/// The planning window around `robot` and the sites of `goals`, grown by `margin` cells on
+/// every side: where a tour over a bounded horizon ([`horizon`]) is planned.
+pub fn window_around(robot: Cell, goals: &[TourGoal], margin: u32) -> CellRect {
     let mut rect = strider_map::rect::include(None, robot);
-    for &s in kept.iter().flat_map(|g| &g.sites) {
+    for &s in goals.iter().flat_map(|g| &g.sites) {
         rect = strider_map::rect::include(Some(rect), s);
     }
-    Some(strider_map::rect::expand(rect, margin))
+    strider_map::rect::expand(rect, margin)
 }
 
 /// The goals within the tour's horizon and the committed goal's index among them: all of
@@ -370,7 +353,8 @@ pub fn horizon_window(
 /// by the straight-line distance of their nearest site from `robot` (ties by index), the
 /// committed goal `first` before all, while their sites fit (at least one goal). A goal beyond
 /// the horizon waits until the robot comes nearer; the next replan's horizon moves with it.
-fn horizon(
+/// The result borrows `goals` exactly when it holds all of them.
+pub fn horizon(
     goals: &[TourGoal],
     robot: Cell,
     first: Option<usize>,

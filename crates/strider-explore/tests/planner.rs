@@ -1,11 +1,12 @@
 //! The exploration tour and paths on a small synthetic map.
 
 use proptest::prelude::*;
+use std::borrow::Cow;
 use strider_core::{Cell, CellRect, GaitId, Point2, Rgb8};
 use strider_explore::params::TourSolver;
 use strider_explore::planner::{
-    CostMode, GoalKey, PlanningView, TourGoal, TourOrder, farthest_point_subsample, horizon_window,
-    plan_tour,
+    CostMode, GoalKey, PlanningView, TourGoal, TourOrder, farthest_point_subsample, horizon,
+    plan_tour, window_around,
 };
 use strider_learn::cost_model::{CostModelParams, GaitCostModel};
 use strider_map::ElevationMap;
@@ -251,21 +252,15 @@ fn a_bounded_horizon_plans_over_the_nearest_goals_and_keeps_the_committed_one() 
         k.sort();
         k
     };
+    // The tour over the goals of the horizon, with the committed goal first.
     let bounded = |max_sites: usize, first: Option<usize>| {
-        let solver = TourSolver {
-            max_sites: Some(max_sites),
-            ..TourSolver::default()
-        };
-        plan_tour(
-            &view,
-            robot,
-            &goals,
-            TourOrder::Gtsp(&solver),
-            1,
-            &[],
-            first,
-        )
-        .unwrap()
+        let (near, near_first) = horizon(&goals, robot, first, Some(max_sites));
+        assert_eq!(
+            matches!(near, Cow::Borrowed(_)),
+            max_sites >= 6,
+            "borrowed iff all"
+        );
+        plan_tour(&view, robot, &near, order(false), 1, &[], near_first).unwrap()
     };
     // Six sites: a bound of six (or more) plans over every goal, as without one.
     let all = plan_tour(&view, robot, &goals, order(false), 1, &[], None).unwrap();
@@ -298,10 +293,17 @@ fn a_bounded_horizon_plans_on_a_window_around_the_robot_and_its_goals() {
     };
     let goals = vec![spatial(12, 8), spatial(35, 5), spatial(9, 14)];
     let robot = Cell::new(5, 5);
-    assert_eq!(horizon_window(&goals, robot, None, None, 3), None);
-    assert_eq!(horizon_window(&goals, robot, None, Some(3), 3), None);
+    assert!(matches!(
+        horizon(&goals, robot, None, None).0,
+        Cow::Borrowed(_)
+    ));
+    assert!(matches!(
+        horizon(&goals, robot, None, Some(3)).0,
+        Cow::Borrowed(_)
+    ));
     // Two of three sites: the window holds the robot and the two nearest goals, plus 3 cells.
-    let w = horizon_window(&goals, robot, None, Some(2), 3).unwrap();
+    let (near, _) = horizon(&goals, robot, None, Some(2));
+    let w = window_around(robot, &near, 3);
     assert_eq!(w, CellRect::new(Cell::new(2, 2), 14, 16));
     let view =
         PlanningView::build_within(&m, &models(), CostMode::Flat, 10.0, None, Some(w)).unwrap();

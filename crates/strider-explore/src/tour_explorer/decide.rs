@@ -4,9 +4,10 @@
 use super::{ReplanParts, TourExplorer};
 use crate::kernel::{Actuators, Body, Termination, drop_visited, start_look_around};
 use crate::planner::{
-    CostMode, GoalKey, PlanningView, Tour, TourGoal, TourOrder, horizon_window, plan_tour,
+    CostMode, GoalKey, PlanningView, Tour, TourGoal, TourOrder, horizon, plan_tour, window_around,
 };
 use crate::timing::ms_since;
+use std::borrow::Cow;
 use std::time::Instant;
 use strider_core::interface::MotionState;
 use strider_core::{Cell, CellRect, GaitId};
@@ -139,13 +140,15 @@ impl TourExplorer {
         } else {
             self.committed_goal(body, goals)
         };
-        let window = self.horizon_window(body, here, goals, commit);
+        let (near, near_commit, window) = self.horizon(body, here, goals, commit);
         let wv = Instant::now();
         self.refresh_view(body, mode, window);
         let mut view_ms = ms_since(wv);
-        let (mut tour, mut path_found) = self.plan_and_follow(body, robot, here, goals, commit);
+        let (mut tour, mut path_found) =
+            self.plan_and_follow(body, robot, here, &near, near_commit);
         if !path_found && window.is_some() {
-            // Nothing reachable within the window, perhaps only round it: the whole map.
+            // Nothing reachable among the near goals within their window, perhaps only round
+            // it or beyond the horizon: every goal on the whole map.
             let wv = Instant::now();
             self.refresh_view(body, mode, None);
             view_ms += ms_since(wv);
@@ -198,27 +201,24 @@ impl TourExplorer {
         (tour, path_found)
     }
 
-    /// The planning window of a bounded tour horizon from `here` (see [`horizon_window`]);
-    /// `None` plans on the whole map.
-    fn horizon_window(
+    /// The goals of the tour's horizon from `here` ([`horizon`]; every goal for the greedy
+    /// baseline or without a bound), the committed goal's index among them, and the window to
+    /// plan them on (`None`: the whole map, when the horizon holds every goal).
+    fn horizon<'g>(
         &self,
         body: &Body,
         here: Cell,
-        goals: &[TourGoal],
+        goals: &'g [TourGoal],
         commit: Option<usize>,
-    ) -> Option<CellRect> {
-        if self.behaviour.cheapest_next {
-            return None;
-        }
+    ) -> (Cow<'g, [TourGoal]>, Option<usize>, Option<CellRect>) {
         let solver = &self.params.solver;
-        let margin = (solver.window_margin_m / body.map().cell_size()).ceil();
-        horizon_window(
-            goals,
-            here,
-            commit,
-            solver.max_sites,
-            margin.min(u32::MAX as f64) as u32,
-        )
+        let bound = solver.max_sites.filter(|_| !self.behaviour.cheapest_next);
+        let (near, near_commit) = horizon(goals, here, commit, bound);
+        let window = matches!(near, Cow::Owned(_)).then(|| {
+            let margin = (solver.window_margin_m / body.map().cell_size()).ceil();
+            window_around(here, &near, margin.min(u32::MAX as f64) as u32)
+        });
+        (near, near_commit, window)
     }
 
     /// The tour over `goals` on `view` from `here`, with goal `commit` first.
