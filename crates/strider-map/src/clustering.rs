@@ -42,8 +42,8 @@ pub struct SpatialGoal {
 ///
 /// A long frontier makes hundreds of clusters, so the centres are kept in square buckets of
 /// side `radius`: a centre closer than `radius` to a cell lies in the 3 × 3 buckets around the
-/// cell's own, and two more on every side absorb the rounding of the bucket index. The result
-/// is that of comparing every centre.
+/// cell's, and the 5 × 5 searched leave a bucket of room for the rounding of the index. The
+/// result is that of comparing every centre.
 pub fn greedy_clusters(cells: &[Cell], radius: f64) -> Vec<Vec<usize>> {
     // Per cluster: Σi, Σj, n (centres in lattice units; exact for integer sums).
     let mut sums: Vec<(f64, f64, f64)> = Vec::new();
