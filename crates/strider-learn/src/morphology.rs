@@ -131,20 +131,24 @@ pub fn dilate(
 /// be, and stay unknown). The work is proportional to the support, not to the map, which is
 /// what a sparse map (a building seen by a laser) needs.
 pub fn erode_in_place(values: &mut [TerrainCell], w: usize, support: &[u32], steps: usize) {
-    synchronous_steps(values, w, support, steps, |cur, w, h, x, y| {
-        let TerrainCell::Class(c) = cur[y * w + x] else {
-            return None;
-        };
-        let keep = NEIGHBOURS8.iter().all(|&(di, dj)| {
-            let (nx, ny) = (x as i64 + di as i64, y as i64 + dj as i64);
-            nx >= 0
-                && ny >= 0
-                && (nx as usize) < w
-                && (ny as usize) < h
-                && cur[ny as usize * w + nx as usize] == TerrainCell::Class(c)
-        });
-        (!keep).then_some(TerrainCell::Eroded)
-    })
+    synchronous_steps(values, w, support, steps, 1, erode_rule);
+}
+
+/// One erosion step at (x, y) of a `w` × `h` map: a class cell with a neighbour of another
+/// value (or off the map) becomes eroded.
+fn erode_rule(cur: &[TerrainCell], w: usize, h: usize, x: usize, y: usize) -> Option<TerrainCell> {
+    let TerrainCell::Class(c) = cur[y * w + x] else {
+        return None;
+    };
+    let keep = NEIGHBOURS8.iter().all(|&(di, dj)| {
+        let (nx, ny) = (x as i64 + di as i64, y as i64 + dj as i64);
+        nx >= 0
+            && ny >= 0
+            && (nx as usize) < w
+            && (ny as usize) < h
+            && cur[ny as usize * w + nx as usize] == TerrainCell::Class(c)
+    });
+    (!keep).then_some(TerrainCell::Eroded)
 }
 
 /// [`dilate`] in place, visiting only `support` (as for [`erode_in_place`]).
@@ -155,8 +159,16 @@ pub fn dilate_in_place(
     n_size: usize,
     n_steps: usize,
 ) {
+    synchronous_steps(values, w, support, n_steps, n_size, dilate_rule(n_size));
+}
+
+/// One dilation step at (x, y): an eroded cell takes the class most frequent in its
+/// (2·n_size + 1)² window (ties to the lowest id). `votes` is kept between cells.
+fn dilate_rule(
+    n_size: usize,
+) -> impl FnMut(&[TerrainCell], usize, usize, usize, usize) -> Option<TerrainCell> {
     let mut votes: Vec<(ClassId, u32)> = Vec::new();
-    synchronous_steps(values, w, support, n_steps, |cur, w, h, x, y| {
+    move |cur, w, h, x, y| {
         if cur[y * w + x] != TerrainCell::Eroded {
             return None;
         }
@@ -178,7 +190,7 @@ pub fn dilate_in_place(
             .copied()
             .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
             .map(|(c, _)| TerrainCell::Class(c))
-    })
+    }
 }
 
 /// Row-major indices of the cells that are not unknown.
@@ -192,11 +204,17 @@ fn known_cells(values: &[TerrainCell]) -> Vec<u32> {
 /// `rule(map, width, height, x, y)` gives the new value of cell (x, y) from the previous pass's
 /// map only, or `None` to keep it (it returns `Some` only for a real change). Each pass
 /// collects its changes before writing them; stops early after a pass that changed nothing.
+///
+/// `rule` reads no farther than `reach` cells (in x and in y) from its cell. So a cell whose
+/// neighbourhood did not change in a pass gives the same answer in the next one, and the
+/// passes after the first visit only the cells within `reach` of the last pass's changes (a
+/// cell off the support is unknown, and the rules keep unknown cells).
 fn synchronous_steps(
     values: &mut [TerrainCell],
     w: usize,
     support: &[u32],
     steps: usize,
+    reach: usize,
     mut rule: impl FnMut(&[TerrainCell], usize, usize, usize, usize) -> Option<TerrainCell>,
 ) {
     if w == 0 {
@@ -204,9 +222,11 @@ fn synchronous_steps(
     }
     let h = values.len() / w;
     let mut changes: Vec<(usize, TerrainCell)> = Vec::new();
-    for _ in 0..steps {
+    let mut visit: Vec<u32> = Vec::new();
+    for step in 0..steps {
         changes.clear();
-        for &k in support {
+        let cells = if step == 0 { support } else { &visit[..] };
+        for &k in cells {
             let k = k as usize;
             if k >= values.len() {
                 continue;
@@ -221,7 +241,30 @@ fn synchronous_steps(
         for &(k, v) in &changes {
             values[k] = v;
         }
+        if step + 1 < steps {
+            next_visit(&changes, w, h, reach, &mut visit);
+        }
     }
+}
+
+/// The cells within `reach` (in x and in y) of the changed cells, ascending, each once.
+fn next_visit(
+    changes: &[(usize, TerrainCell)],
+    w: usize,
+    h: usize,
+    reach: usize,
+    out: &mut Vec<u32>,
+) {
+    out.clear();
+    for &(k, _) in changes {
+        let (x, y) = (k % w, k / w);
+        let (x0, x1) = (x.saturating_sub(reach), (x + reach).min(w - 1));
+        for ny in y.saturating_sub(reach)..=(y + reach).min(h - 1) {
+            out.extend((x0..=x1).map(|nx| (ny * w + nx) as u32));
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
 }
 
 #[cfg(test)]
@@ -252,5 +295,59 @@ mod tests {
         };
         assert!(erode(&r, 2).unwrap().values.is_empty());
         assert!(dilate(&r, 2, 3).unwrap().values.is_empty());
+    }
+
+    /// Every pass over the whole support, as the rules are defined.
+    fn full_passes(
+        values: &mut [TerrainCell],
+        w: usize,
+        steps: usize,
+        mut rule: impl FnMut(&[TerrainCell], usize, usize, usize, usize) -> Option<TerrainCell>,
+    ) {
+        let h = values.len() / w;
+        for _ in 0..steps {
+            let changes: Vec<(usize, TerrainCell)> = (0..values.len())
+                .filter_map(|k| rule(values, w, h, k % w, k / w).map(|v| (k, v)))
+                .collect();
+            for (k, v) in changes {
+                values[k] = v;
+            }
+        }
+    }
+
+    fn cell_of(code: u8) -> TerrainCell {
+        match code {
+            0 => TerrainCell::Unknown,
+            1 => TerrainCell::Eroded,
+            c => TerrainCell::Class(ClassId(u32::from(c - 2))),
+        }
+    }
+
+    proptest::proptest! {
+        /// Passes that visit only the cells near the last pass's changes give the maps of full
+        /// passes.
+        #[test]
+        fn passes_near_changes_equal_full_passes(
+            w in 1usize..14,
+            codes in proptest::collection::vec(0u8..6, 1..180),
+            steps in 0usize..5,
+            n_size in 1usize..4,
+        ) {
+            let values: Vec<TerrainCell> = codes[..codes.len() / w * w]
+                .iter()
+                .map(|&c| cell_of(c))
+                .collect();
+            proptest::prop_assume!(!values.is_empty());
+            let support = known_cells(&values);
+            let mut fast = values.clone();
+            erode_in_place(&mut fast, w, &support, steps);
+            let mut slow = values.clone();
+            full_passes(&mut slow, w, steps, erode_rule);
+            proptest::prop_assert_eq!(&fast, &slow);
+            let support = known_cells(&fast);
+            dilate_in_place(&mut fast, w, &support, n_size, steps);
+            full_passes(&mut slow, w, steps, dilate_rule(n_size));
+            proptest::prop_assert_eq!(fast, slow);
+        }
     }
 }

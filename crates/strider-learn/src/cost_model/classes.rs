@@ -57,12 +57,13 @@ impl GaitCostModel {
     /// Alg. 7 lines 2–6: adapt the IGNG with a batch of n^IGNG descriptors drawn at random
     /// (by the IGNG's seeded generator) from the described cells.
     fn cluster(&mut self, desc: &DescriptorField) -> Result<(), CostModelError> {
-        // The described cells in row-major order, read in place rather than copied.
+        // The described cells in row-major order, read in place rather than copied; the field
+        // stores only finite descriptors of its dimension, so the rows need no validation scan.
         let cells = desc.described_indices();
         if cells.is_empty() {
             return Ok(());
         }
-        self.igng.train_rows(
+        self.igng.train_valid_rows(
             cells.len(),
             |r| desc.get_stored(cells[r] as usize).unwrap_or(&[]),
             1,
@@ -175,25 +176,31 @@ impl GaitCostModel {
 }
 
 /// Component-wise median of the descriptors of the cells `members` (storage indices of
-/// described cells; the lower median for an even count); `None` without members. `column` is
-/// scratch space.
+/// described cells; the lower median for an even count); `None` without members. Each
+/// member's descriptor is read once into `columns` (scratch space, column-major), which is
+/// what the work per cell comes down to on a large map.
 fn component_median(
     desc: &DescriptorField,
     members: &[usize],
     dim: usize,
-    column: &mut Vec<f64>,
+    columns: &mut Vec<f64>,
 ) -> Option<Vec<f64>> {
     let n = members.len();
     if n == 0 {
         return None;
     }
-    (0..dim)
-        .map(|k| {
-            column.clear();
-            for &m in members {
-                column.push(desc.get_stored(m)?[k]);
-            }
-            Some(*column.select_nth_unstable_by((n - 1) / 2, f64::total_cmp).1)
-        })
-        .collect()
+    columns.clear();
+    columns.resize(n * dim, 0.0);
+    for (i, &m) in members.iter().enumerate() {
+        let row = desc.get_stored(m)?.get(..dim)?;
+        for (k, &v) in row.iter().enumerate() {
+            columns[k * n + i] = v;
+        }
+    }
+    Some(
+        columns
+            .chunks_exact_mut(n)
+            .map(|column| *column.select_nth_unstable_by((n - 1) / 2, f64::total_cmp).1)
+            .collect(),
+    )
 }
