@@ -20,6 +20,7 @@
 //! the rectangle gained. A descriptor depends only on the map around its cell, so the result is
 //! the field a full computation gives, value for value.
 
+use std::sync::atomic::{AtomicU64, Ordering as AtomicOrdering};
 use strider_core::{Cell, CellRect};
 use strider_map::ElevationMap;
 use strider_map::descriptors::{Raster, TA_BINS, color_histograms, histogram_reach};
@@ -30,9 +31,60 @@ pub const STORAGE_ALIGN: i64 = 64;
 
 const NONE: u32 = u32::MAX;
 
+/// Identity and revision of a [`DescriptorField`]: a fresh identity per field (clones
+/// included), and a revision that grows by one with each change
+/// ([`refresh`](DescriptorField::refresh), [`set`](DescriptorField::set)). A consumer that
+/// saw version `v` and finds [`FieldVersion::next_of`] `v` can read what changed in
+/// between from [`DescriptorField::last_changes`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FieldVersion {
+    id: u64,
+    revision: u64,
+}
+
+impl FieldVersion {
+    fn fresh() -> Self {
+        static NEXT: AtomicU64 = AtomicU64::new(0);
+        Self {
+            id: NEXT.fetch_add(1, AtomicOrdering::Relaxed),
+            revision: 0,
+        }
+    }
+
+    /// True when `self` is the revision right after `earlier` of the same field.
+    pub fn next_of(self, earlier: FieldVersion) -> bool {
+        self.id == earlier.id && self.revision == earlier.revision.wrapping_add(1)
+    }
+}
+
+impl Clone for DescriptorField {
+    /// A copy with its own identity (its changes are not the original's).
+    fn clone(&self) -> Self {
+        Self {
+            version: FieldVersion::fresh(),
+            changed: self.changed.clone(),
+            changed_old: self.changed_old.clone(),
+            rect: self.rect,
+            store: self.store,
+            dim: self.dim,
+            slot: self.slot.clone(),
+            values: self.values.clone(),
+            free: self.free.clone(),
+            order: self.order.clone(),
+            rejected: self.rejected,
+        }
+    }
+}
+
 /// Descriptors over `rect`, `dim` values per described cell.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct DescriptorField {
+    /// Which field this is and how often it changed (see [`FieldVersion`]).
+    version: FieldVersion,
+    /// Storage indices of the cells whose descriptor the last change replaced or removed, and
+    /// (`dim` per cell, in the same order) the descriptor each had before it.
+    changed: Vec<u32>,
+    changed_old: Vec<f64>,
     rect: CellRect,
     store: CellRect,
     dim: usize,
@@ -86,6 +138,9 @@ impl DescriptorField {
     pub fn empty(rect: CellRect, dim: usize) -> Self {
         let store = storage_rect(rect);
         Self {
+            version: FieldVersion::fresh(),
+            changed: Vec::new(),
+            changed_old: Vec::new(),
             rect,
             store,
             dim,
@@ -142,6 +197,7 @@ impl DescriptorField {
         if self.dim != N {
             *self = Self::empty(CellRect::new(rect.min, 0, 0), N);
         }
+        self.begin_change();
         let old = self.rect;
         self.resize(rect);
         let mut added = Vec::new();
@@ -229,7 +285,13 @@ impl DescriptorField {
         let dim = self.dim;
         if self.slot[n] != NONE {
             let s = self.slot[n] as usize;
-            self.values[s * dim..(s + 1) * dim].copy_from_slice(d);
+            let row = &mut self.values[s * dim..(s + 1) * dim];
+            // Bit for bit: a consumer keyed by the values (class medians) must hear of -0 → +0.
+            if row.iter().zip(d).any(|(a, b)| a.to_bits() != b.to_bits()) {
+                self.changed.push(n as u32);
+                self.changed_old.extend_from_slice(row);
+                row.copy_from_slice(d);
+            }
             return false;
         }
         let s = match self.free.pop() {
@@ -251,6 +313,10 @@ impl DescriptorField {
     fn clear_stored(&mut self, n: usize) {
         let s = std::mem::replace(&mut self.slot[n], NONE);
         if s != NONE {
+            let dim = self.dim;
+            self.changed.push(n as u32);
+            self.changed_old
+                .extend_from_slice(&self.values[s as usize * dim..(s as usize + 1) * dim]);
             self.free.push(s);
             if let Ok(p) = self.order.binary_search(&(n as u32)) {
                 self.order.remove(p);
@@ -288,6 +354,7 @@ impl DescriptorField {
     /// Sets the descriptor of cell `c`. Returns `false` (and counts a rejection) when `c` is
     /// outside the rectangle, `d` has the wrong length or a non-finite component.
     pub fn set(&mut self, c: Cell, d: &[f64]) -> bool {
+        self.begin_change();
         let Some(n) = self.store.index(c).filter(|_| self.rect.contains(c)) else {
             self.rejected += 1;
             return false;
@@ -296,6 +363,31 @@ impl DescriptorField {
             self.merge_order(vec![n as u32]);
         }
         self.slot[n] != NONE
+    }
+
+    /// Starts a change: a new revision whose log starts empty.
+    fn begin_change(&mut self) {
+        self.version.revision = self.version.revision.wrapping_add(1);
+        self.changed.clear();
+        self.changed_old.clear();
+    }
+
+    /// Identity and revision (see [`FieldVersion`]).
+    pub fn version(&self) -> FieldVersion {
+        self.version
+    }
+
+    /// The cells whose descriptor the last change replaced with another or removed, as
+    /// (storage index, the descriptor before the change), in the order changed; a cell can
+    /// appear more than once, its first entry holding the descriptor of the revision before.
+    /// Newly described cells are not listed. When the change moved the storage rectangle
+    /// ([`storage`](Self::storage)) the log does not say where every cell went, and a
+    /// consumer starts over.
+    pub fn last_changes(&self) -> impl Iterator<Item = (usize, &[f64])> + '_ {
+        self.changed
+            .iter()
+            .zip(self.changed_old.chunks_exact(self.dim.max(1)))
+            .map(|(&n, old)| (n as usize, old))
     }
 
     /// The rectangle covered.

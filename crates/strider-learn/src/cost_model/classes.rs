@@ -97,42 +97,28 @@ impl GaitCostModel {
     }
 
     /// One [`ClassInfo`] per class represented on the eroded grid, by ascending id, with the
-    /// prediction at its median descriptor (information gain filled in by the caller).
-    fn class_table(&self, desc: &DescriptorField) -> Vec<ClassInfo> {
-        // Per class: eroded cells, learning cells, and the storage indices of its cells (not
-        // copies of their descriptors: on a large map those copies dominated the update).
-        let mut cells: HashMap<ClassId, (usize, usize, Vec<usize>)> = HashMap::default();
-        for (k, _) in desc.described() {
-            if let TerrainCell::Class(t) = self.learn_class[k] {
-                let e = cells.entry(t).or_default();
-                e.0 += 1;
-                e.2.push(k);
-            }
-        }
+    /// prediction at its median descriptor (information gain filled in by the caller). The
+    /// counts and medians come from the statistics kept in step with the class map.
+    fn class_table(&mut self, desc: &DescriptorField) -> Vec<ClassInfo> {
+        self.stats.sync(desc, &self.learn_class);
+        let mut learning: HashMap<ClassId, usize> = HashMap::default();
         for c in &self.learn_cells {
-            if let Some(TerrainCell::Class(t)) = self.store.index(*c).map(|k| self.learn_class[k])
-                && let Some(e) = cells.get_mut(&t)
-            {
-                e.1 += 1;
+            if let Some(TerrainCell::Class(t)) = self.store.index(*c).map(|k| self.learn_class[k]) {
+                *learning.entry(t).or_default() += 1;
             }
         }
-        let mut ids: Vec<ClassId> = cells.keys().copied().collect();
-        ids.sort_unstable();
-        let mut column = Vec::new();
-        ids.into_iter()
-            .filter_map(|id| {
-                let prototype = self.igng.prototype(id)?.to_vec();
-                let (n, l, members) = &cells[&id];
-                // Never `None`: a cell gets a class only by classifying its descriptor.
-                let median = component_median(desc, members, self.dim, &mut column)?;
-                let (cost, variance) = self.predict(&median);
-                let (n, l) = (*n, *l);
+        self.stats
+            .summaries()
+            .into_iter()
+            .filter_map(|s| {
+                let prototype = self.igng.prototype(s.id)?.to_vec();
+                let (cost, variance) = self.predict(&s.median);
                 Some(ClassInfo {
-                    id,
+                    id: s.id,
                     prototype,
-                    median,
-                    cells: n,
-                    learning_cells: l,
+                    cells: s.cells,
+                    learning_cells: learning.get(&s.id).copied().unwrap_or(0),
+                    median: s.median,
                     cost,
                     variance,
                     entropy: differential_entropy(variance),
@@ -173,34 +159,4 @@ impl GaitCostModel {
             self.params.dilate_steps,
         );
     }
-}
-
-/// Component-wise median of the descriptors of the cells `members` (storage indices of
-/// described cells; the lower median for an even count); `None` without members. Each
-/// member's descriptor is read once into `columns` (scratch space, column-major), which is
-/// what the work per cell comes down to on a large map.
-fn component_median(
-    desc: &DescriptorField,
-    members: &[usize],
-    dim: usize,
-    columns: &mut Vec<f64>,
-) -> Option<Vec<f64>> {
-    let n = members.len();
-    if n == 0 {
-        return None;
-    }
-    columns.clear();
-    columns.resize(n * dim, 0.0);
-    for (i, &m) in members.iter().enumerate() {
-        let row = desc.get_stored(m)?.get(..dim)?;
-        for (k, &v) in row.iter().enumerate() {
-            columns[k * n + i] = v;
-        }
-    }
-    Some(
-        columns
-            .chunks_exact_mut(n)
-            .map(|column| *column.select_nth_unstable_by((n - 1) / 2, f64::total_cmp).1)
-            .collect(),
-    )
 }

@@ -47,6 +47,7 @@
 //! test), `learning_set` (L and the GP), `classes` (Alg. 7, 8 and 10), `goals` (Alg. 9 and the
 //! bootstrap goal); this file holds the model and its update (Alg. 6).
 
+mod class_stats;
 mod classes;
 mod goals;
 mod learning_set;
@@ -114,6 +115,8 @@ pub struct GaitCostModel {
     mask_applied: usize,
     /// Admissibility over the storage rectangle at the last update (a reused buffer).
     admissible: Vec<bool>,
+    /// Counts and medians per class of the eroded class map, kept in step with it.
+    stats: class_stats::ClassStats,
     /// I_C per class of the last update.
     class_gain: HashMap<ClassId, f64>,
     /// Regressor predictions (descriptor, mean, latent variance) per cell since the last
@@ -176,6 +179,7 @@ impl GaitCostModel {
             measured_mask: Vec::new(),
             mask_applied: 0,
             admissible: Vec::new(),
+            stats: class_stats::ClassStats::default(),
             class_gain: HashMap::default(),
             novelty_cache: HashMap::default(),
             alpha: None,
