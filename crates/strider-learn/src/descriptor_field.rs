@@ -34,8 +34,7 @@ const NONE: u32 = u32::MAX;
 /// Identity and revision of a [`DescriptorField`]: a fresh identity per field (clones
 /// included), and a revision that grows by one with each change
 /// ([`refresh`](DescriptorField::refresh), [`set`](DescriptorField::set)). A consumer that
-/// saw version `v` and finds [`FieldVersion::next_of`] `v` can read what changed in
-/// between from [`DescriptorField::last_changes`].
+/// saw version `v` reads what changed since from [`DescriptorField::changes_since`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct FieldVersion {
     id: u64,
@@ -50,11 +49,6 @@ impl FieldVersion {
             revision: 0,
         }
     }
-
-    /// True when `self` is the revision right after `earlier` of the same field.
-    pub fn next_of(self, earlier: FieldVersion) -> bool {
-        self.id == earlier.id && self.revision == earlier.revision.wrapping_add(1)
-    }
 }
 
 impl Clone for DescriptorField {
@@ -62,8 +56,10 @@ impl Clone for DescriptorField {
     fn clone(&self) -> Self {
         Self {
             version: FieldVersion::fresh(),
-            changed: self.changed.clone(),
-            changed_old: self.changed_old.clone(),
+            changed_rev: Vec::new(),
+            changed: Vec::new(),
+            changed_old: Vec::new(),
+            log_start: 0,
             rect: self.rect,
             store: self.store,
             dim: self.dim,
@@ -81,10 +77,13 @@ impl Clone for DescriptorField {
 pub struct DescriptorField {
     /// Which field this is and how often it changed (see [`FieldVersion`]).
     version: FieldVersion,
-    /// Storage indices of the cells whose descriptor the last change replaced or removed, and
-    /// (`dim` per cell, in the same order) the descriptor each had before it.
+    /// The change log: per entry the revision, the storage index of a cell whose descriptor
+    /// that change replaced or removed, and (`dim` per entry) the descriptor it had before.
+    /// It holds every such change after revision `log_start`.
+    changed_rev: Vec<u64>,
     changed: Vec<u32>,
     changed_old: Vec<f64>,
+    log_start: u64,
     rect: CellRect,
     store: CellRect,
     dim: usize,
@@ -139,8 +138,10 @@ impl DescriptorField {
         let store = storage_rect(rect);
         Self {
             version: FieldVersion::fresh(),
+            changed_rev: Vec::new(),
             changed: Vec::new(),
             changed_old: Vec::new(),
+            log_start: 0,
             rect,
             store,
             dim,
@@ -288,6 +289,7 @@ impl DescriptorField {
             let row = &mut self.values[s * dim..(s + 1) * dim];
             // Bit for bit: a consumer keyed by the values (class medians) must hear of -0 → +0.
             if row.iter().zip(d).any(|(a, b)| a.to_bits() != b.to_bits()) {
+                self.changed_rev.push(self.version.revision);
                 self.changed.push(n as u32);
                 self.changed_old.extend_from_slice(row);
                 row.copy_from_slice(d);
@@ -314,6 +316,7 @@ impl DescriptorField {
         let s = std::mem::replace(&mut self.slot[n], NONE);
         if s != NONE {
             let dim = self.dim;
+            self.changed_rev.push(self.version.revision);
             self.changed.push(n as u32);
             self.changed_old
                 .extend_from_slice(&self.values[s as usize * dim..(s as usize + 1) * dim]);
@@ -365,11 +368,16 @@ impl DescriptorField {
         self.slot[n] != NONE
     }
 
-    /// Starts a change: a new revision whose log starts empty.
+    /// Starts a change: a new revision. The log is dropped when it holds more entries than
+    /// there are described cells (a consumer that far behind starts over anyway).
     fn begin_change(&mut self) {
+        if self.changed.len() > self.order.len().max(1024) {
+            self.changed_rev.clear();
+            self.changed.clear();
+            self.changed_old.clear();
+            self.log_start = self.version.revision;
+        }
         self.version.revision = self.version.revision.wrapping_add(1);
-        self.changed.clear();
-        self.changed_old.clear();
     }
 
     /// Identity and revision (see [`FieldVersion`]).
@@ -377,17 +385,31 @@ impl DescriptorField {
         self.version
     }
 
-    /// The cells whose descriptor the last change replaced with another or removed, as
-    /// (storage index, the descriptor before the change), in the order changed; a cell can
-    /// appear more than once, its first entry holding the descriptor of the revision before.
-    /// Newly described cells are not listed. When the change moved the storage rectangle
-    /// ([`storage`](Self::storage)) the log does not say where every cell went, and a
-    /// consumer starts over.
-    pub fn last_changes(&self) -> impl Iterator<Item = (usize, &[f64])> + '_ {
-        self.changed
-            .iter()
-            .zip(self.changed_old.chunks_exact(self.dim.max(1)))
-            .map(|(&n, old)| (n as usize, old))
+    /// The cells whose descriptor a change after version `seen` replaced with another or
+    /// removed, as (storage index, the descriptor before that change), in the order changed;
+    /// a cell can appear more than once, its first entry holding its descriptor at `seen`.
+    /// Newly described cells are not listed. `None` when `seen` is not a version of this
+    /// field or the log no longer reaches back to it. When the storage rectangle
+    /// ([`storage`](Self::storage)) moved since, the log does not say where every cell went,
+    /// and a consumer starts over.
+    pub fn changes_since(
+        &self,
+        seen: FieldVersion,
+    ) -> Option<impl Iterator<Item = (usize, &[f64])> + '_> {
+        if seen.id != self.version.id
+            || seen.revision < self.log_start
+            || seen.revision > self.version.revision
+        {
+            return None;
+        }
+        let first = self.changed_rev.partition_point(|&r| r <= seen.revision);
+        let dim = self.dim.max(1);
+        Some(
+            self.changed[first..]
+                .iter()
+                .zip(self.changed_old[first * dim..].chunks_exact(dim))
+                .map(|(&n, old)| (n as usize, old)),
+        )
     }
 
     /// The rectangle covered.

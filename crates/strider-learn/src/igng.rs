@@ -396,6 +396,32 @@ impl Igng {
         best.map(|(i, d)| (self.neurons[i].id, d.sqrt()))
     }
 
+    /// [`classify`](Self::classify)'s class of `x` with the distances to its prototype and to
+    /// the nearest other prototype (`+∞` when there is none): a prototype that moves by δ
+    /// changes a distance by at most δ, so the class stands as long as no prototype moved by
+    /// half the difference. `None` when there is no class or `x` is invalid.
+    pub fn nearest_two(&self, x: &[f64]) -> Option<(ClassId, f64, f64)> {
+        if x.len() != self.dim || !x.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let mut best: Option<(usize, f64)> = None;
+        let mut second = f64::INFINITY;
+        for (i, n) in self.neurons.iter().enumerate() {
+            let d = dist2(&n.w, x);
+            // The same comparison as `nearest`, so the same class on ties.
+            match best {
+                Some((_, bd)) if d >= bd => second = second.min(d),
+                _ => {
+                    if let Some((_, bd)) = best {
+                        second = second.min(bd);
+                    }
+                    best = Some((i, d));
+                }
+            }
+        }
+        best.map(|(i, d)| (self.neurons[i].id, d.sqrt(), second.sqrt()))
+    }
+
     /// The class of descriptor `x` (Alg. 7 line 8): the nearest live prototype, whatever the
     /// distance. `None` when there is no class or `x` is invalid.
     pub fn classify<D: Copy + Into<f64>>(&self, x: &[D]) -> Option<ClassId> {

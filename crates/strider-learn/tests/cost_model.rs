@@ -301,3 +301,81 @@ proptest! {
         }
     }
 }
+
+/// A small deterministic generator for the test's changes.
+fn lcg(state: &mut u64) -> u64 {
+    *state = state
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    *state >> 33
+}
+
+#[test]
+fn class_maps_kept_between_updates_equal_maps_computed_afresh() {
+    // Noisy histograms (so that cells sit at every distance from the class borders), patches
+    // of terrain that change between updates (as new scans would change them), and the same
+    // model run twice: once keeping its class maps, once recomputing them every update.
+    for seed in 0..3u64 {
+        let mut state = seed + 11;
+        let noisy = |c: Cell, t: usize, state: &mut u64| {
+            let mut d = [0.0; 9];
+            for v in d.iter_mut() {
+                *v = (lcg(state) % 100) as f64 * 1e-3;
+            }
+            d[t] += 0.4 + (lcg(state) % 100) as f64 * 4e-3 + 0.1 * (c.i % 3) as f64;
+            d
+        };
+        let (map, mut desc) = flat_world(|c| {
+            let mut d = [0.0; 9];
+            d[terrain(c)] = 1.0;
+            d
+        });
+        for c in rect().cells() {
+            let d = noisy(c, terrain(c), &mut state);
+            assert!(desc.set(c, &d));
+        }
+        let params = CostModelParams::default();
+        let mut kept = GaitCostModel::new(GaitId(0), 9, params.clone(), seed).unwrap();
+        let mut fresh = GaitCostModel::new(GaitId(0), 9, params, seed).unwrap();
+        for step in 0..8 {
+            if step < 3 {
+                feed(&mut kept, &desc, 4..17);
+                feed(&mut fresh, &desc, 4..17);
+                feed(&mut kept, &desc, 24..37);
+                feed(&mut fresh, &desc, 24..37);
+            }
+            // A patch takes another terrain's histograms; one cell loses its descriptor.
+            let (i0, j0) = ((lcg(&mut state) % 50) as i32, (lcg(&mut state) % 30) as i32);
+            let t = (lcg(&mut state) % 4) as usize;
+            for i in i0..i0 + 8 {
+                for j in j0..j0 + 6 {
+                    let c = Cell::new(i, j);
+                    if rect().contains(c) {
+                        let d = noisy(c, t, &mut state);
+                        desc.set(c, &d);
+                    }
+                }
+            }
+            desc.set(Cell::new(i0, j0), &[f64::NAN; 9]);
+            fresh.forget_class_maps();
+            let a = kept.update(&map, &desc).unwrap();
+            let b = fresh.update(&map, &desc).unwrap();
+            assert_eq!(a, b, "seed {seed}, step {step}: updates differ");
+            for c in rect().cells() {
+                assert_eq!(
+                    kept.learning_class(c),
+                    fresh.learning_class(c),
+                    "T at {c:?}"
+                );
+                assert_eq!(
+                    kept.planning_class(c),
+                    fresh.planning_class(c),
+                    "T̂ at {c:?}"
+                );
+            }
+        }
+        let counts = kept.classification_counts();
+        assert!(counts.partial >= 3, "seed {seed}: {counts:?}");
+        assert_eq!(fresh.classification_counts().partial, 0);
+    }
+}

@@ -5,9 +5,10 @@
 //! Each class keeps, per descriptor component, the multiset of its cells' values in an ordered
 //! map (value → count). The median is read by walking it, which costs the number of distinct
 //! values below the median, not the number of cells. The field's change log
-//! ([`DescriptorField::last_changes`]) supplies the descriptors a change replaced, so that a
-//! cell's old values can be taken out. When the field is another one, changed more than once
-//! since the last update, or moved its storage rectangle, everything is counted again.
+//! ([`DescriptorField::changes_since`]) supplies the descriptors a change replaced, so that a
+//! cell's old values can be taken out. When the field is another one, its log no longer
+//! reaches back to the last update, or it moved its storage rectangle, everything is counted
+//! again.
 
 use std::collections::BTreeMap;
 
@@ -63,26 +64,24 @@ impl ClassStats {
     /// Brings the statistics to the class map `classes` (eroded, laid out on the field's
     /// storage rectangle) and the descriptors of `desc`.
     pub(super) fn sync(&mut self, desc: &DescriptorField, classes: &[TerrainCell]) {
-        let version = desc.version();
         let store = desc.storage();
-        let in_step = self.store == store
+        let shaped = self.store == store
             && self.dim == desc.dim()
             && self.member.len() == store.len()
-            && classes.len() == store.len()
-            && self
-                .seen
-                .is_some_and(|s| s == version || version.next_of(s));
-        if !in_step {
+            && classes.len() == store.len();
+        let Some(changes) = self
+            .seen
+            .filter(|_| shaped)
+            .and_then(|s| desc.changes_since(s))
+        else {
             self.recount(desc, classes);
             return;
-        }
-        if self.seen != Some(version) {
-            // The log holds the descriptors these cells had at the last sync.
-            for (n, old) in desc.last_changes() {
-                if let Some(t) = self.member.get(n).copied().filter(|&t| t != NONE) {
-                    self.remove(t, old);
-                    self.member[n] = NONE;
-                }
+        };
+        // The log holds the descriptors these cells had at the last sync.
+        for (n, old) in changes {
+            if let Some(t) = self.member.get(n).copied().filter(|&t| t != NONE) {
+                self.remove(t, old);
+                self.member[n] = NONE;
             }
         }
         for &k in desc.described_indices() {
@@ -103,7 +102,7 @@ impl ClassStats {
             }
             self.member[k] = want;
         }
-        self.seen = Some(version);
+        self.seen = Some(desc.version());
     }
 
     /// Counts every described cell again.
@@ -300,7 +299,7 @@ mod tests {
             }
         }
 
-        /// With one field change between syncs (the learning update's rhythm) the log is used.
+        /// With one field change between syncs (the learning update's rhythm).
         #[test]
         fn one_change_per_sync_equals_fresh(
             changes in proptest::collection::vec((0usize..48, -3i8..3, 0u8..4), 1..40),

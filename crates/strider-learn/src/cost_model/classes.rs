@@ -4,7 +4,7 @@
 
 use rustc_hash::FxHashMap as HashMap;
 
-use super::{CostModelError, GaitCostModel};
+use super::{CostModelError, GaitCostModel, class_map};
 use crate::descriptor_field::DescriptorField;
 use crate::gp::differential_entropy;
 use crate::igng::ClassId;
@@ -36,21 +36,35 @@ pub struct ClassInfo {
 
 impl GaitCostModel {
     /// Alg. 7: adapts the IGNG on a random batch, assigns every described cell its nearest
-    /// class T*(ν) (Eq. 17) and erodes that into the learning assignment T (Eq. 25).
+    /// class T*(ν) (Eq. 17) and erodes that into the learning assignment T (Eq. 25). Only the
+    /// cells that may have changed class are classified again, and T is recomputed near the
+    /// cells whose T* changed (see `class_map`).
     pub(super) fn assign_classes(&mut self, desc: &DescriptorField) -> Result<(), CostModelError> {
         self.cluster(desc)?;
-        for (k, x) in desc.described() {
-            self.learn_class[k] = self
-                .igng
-                .classify(x)
-                .map_or(TerrainCell::Eroded, TerrainCell::Class);
+        let w = self.store.width as usize;
+        let steps = self.params.erode_steps;
+        let r = self.raw.classify(desc, &self.igng, &self.support);
+        if r.full {
+            for &k in &self.prev_support {
+                self.learn_class[k as usize] = TerrainCell::Unknown;
+            }
+            for &k in &self.support {
+                self.learn_class[k as usize] = self.raw.raw[k as usize];
+            }
+            morphology::erode_in_place(&mut self.learn_class, w, &self.support, steps);
+            self.learn_changed = None;
+        } else {
+            let changed = class_map::recompute_near(
+                &self.raw.raw,
+                &mut self.learn_class,
+                w,
+                &r.changed,
+                steps,
+                &mut self.window,
+                |v, ww, s| morphology::erode_in_place(v, ww, s, steps),
+            );
+            self.learn_changed = Some(changed);
         }
-        morphology::erode_in_place(
-            &mut self.learn_class,
-            self.store.width as usize,
-            &self.support,
-            self.params.erode_steps,
-        );
         Ok(())
     }
 
@@ -140,23 +154,43 @@ impl GaitCostModel {
                 let s = &mut self.learn_class[k as usize];
                 if *s == TerrainCell::Class(t) {
                     *s = TerrainCell::Eroded;
+                    if let Some(changed) = &mut self.learn_changed {
+                        changed.push(k);
+                    }
                 }
             }
         }
         Ok(())
     }
 
-    /// Alg. 10: dilates the learning assignment into the planning assignment T̂ (Eq. 26).
+    /// Alg. 10: dilates the learning assignment into the planning assignment T̂ (Eq. 26),
+    /// everywhere after a full classification, else near the cells whose T changed.
     pub(super) fn dilate_classes(&mut self) {
-        for &k in &self.support {
-            self.plan_class[k as usize] = self.learn_class[k as usize];
+        let w = self.store.width as usize;
+        let (size, steps) = (self.params.dilate_size, self.params.dilate_steps);
+        match self.learn_changed.take() {
+            None => {
+                for &k in &self.prev_support {
+                    self.plan_class[k as usize] = TerrainCell::Unknown;
+                }
+                for &k in &self.support {
+                    self.plan_class[k as usize] = self.learn_class[k as usize];
+                }
+                morphology::dilate_in_place(&mut self.plan_class, w, &self.support, size, steps);
+            }
+            Some(mut changed) => {
+                changed.sort_unstable();
+                changed.dedup();
+                class_map::recompute_near(
+                    &self.learn_class,
+                    &mut self.plan_class,
+                    w,
+                    &changed,
+                    steps.saturating_mul(size),
+                    &mut self.window,
+                    |v, ww, s| morphology::dilate_in_place(v, ww, s, size, steps),
+                );
+            }
         }
-        morphology::dilate_in_place(
-            &mut self.plan_class,
-            self.store.width as usize,
-            &self.support,
-            self.params.dilate_size,
-            self.params.dilate_steps,
-        );
     }
 }

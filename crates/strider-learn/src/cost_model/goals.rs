@@ -24,6 +24,11 @@ impl GaitCostModel {
     /// Decision 16: before the regressor exists every described cell is one eroded class, and
     /// one bootstrap goal holds the lattice sites over admissible cells with no measured cost.
     pub(super) fn bootstrap_update(&mut self) -> ModelUpdate {
+        self.raw.invalidate();
+        for &k in &self.prev_support {
+            self.learn_class[k as usize] = TerrainCell::Unknown;
+            self.plan_class[k as usize] = TerrainCell::Unknown;
+        }
         for &k in &self.support {
             self.learn_class[k as usize] = TerrainCell::Eroded;
             self.plan_class[k as usize] = TerrainCell::Eroded;

@@ -47,6 +47,7 @@
 //! test), `learning_set` (L and the GP), `classes` (Alg. 7, 8 and 10), `goals` (Alg. 9 and the
 //! bootstrap goal); this file holds the model and its update (Alg. 6).
 
+mod class_map;
 mod class_stats;
 mod classes;
 mod goals;
@@ -54,6 +55,7 @@ mod learning_set;
 mod measurement;
 mod params;
 
+pub use class_map::ClassificationCounts;
 pub use classes::ClassInfo;
 pub use goals::CostGoal;
 pub use measurement::{CellCost, Insertion};
@@ -109,6 +111,15 @@ pub struct GaitCostModel {
     /// Storage indices of the described cells at the last update, ascending: the only cells
     /// of the class rasters that are not unknown.
     support: Vec<u32>,
+    /// `support` of the update before (cells a full recomputation must reset).
+    prev_support: Vec<u32>,
+    /// T* kept between updates, to reclassify only the cells that may have changed class.
+    raw: class_map::RawClasses,
+    /// Cells of `learn_class` changed in this update, for the dilation near them; `None`
+    /// after a full classification (dilate everywhere).
+    learn_changed: Option<Vec<u32>>,
+    /// Window buffer of the recomputations near changes.
+    window: Vec<TerrainCell>,
     /// Per storage cell: has a measured cost; the first `mask_applied` cells of `measured`
     /// are marked.
     measured_mask: Vec<bool>,
@@ -176,6 +187,10 @@ impl GaitCostModel {
             learn_class: Vec::new(),
             plan_class: Vec::new(),
             support: Vec::new(),
+            prev_support: Vec::new(),
+            raw: class_map::RawClasses::default(),
+            learn_changed: None,
+            window: Vec::new(),
             measured_mask: Vec::new(),
             mask_applied: 0,
             admissible: Vec::new(),
@@ -284,6 +299,18 @@ impl GaitCostModel {
         }
     }
 
+    /// Makes the next [`update`](Self::update) classify, erode and dilate every cell again
+    /// instead of only near what changed. The result is the same; this exists to check that
+    /// and to measure the difference.
+    pub fn forget_class_maps(&mut self) {
+        self.raw.invalidate();
+    }
+
+    /// How the class maps were brought up to date so far (see [`ClassificationCounts`]).
+    pub fn classification_counts(&self) -> ClassificationCounts {
+        self.raw.counts
+    }
+
     /// The eroded class T(ν) of the last update.
     pub fn learning_class(&self, c: Cell) -> Option<ClassId> {
         match self.store.index(c).map(|k| self.learn_class[k]) {
@@ -327,6 +354,19 @@ impl GaitCostModel {
         map: &ElevationMap,
         desc: &DescriptorField,
     ) -> Result<ModelUpdate, CostModelError> {
+        let out = self.update_models(map, desc);
+        if out.is_err() {
+            // The class maps may be half done: the next update starts them over.
+            self.raw.invalidate();
+        }
+        out
+    }
+
+    fn update_models(
+        &mut self,
+        map: &ElevationMap,
+        desc: &DescriptorField,
+    ) -> Result<ModelUpdate, CostModelError> {
         self.check_dim(desc)?;
         self.novelty_cache.clear();
         self.alpha = None;
@@ -349,9 +389,10 @@ impl GaitCostModel {
         })
     }
 
-    /// Forgets the class rasters, gains and costs of the last update, lays the rasters out on
-    /// the descriptors' storage rectangle (reusing them when it is unchanged: only the last
-    /// support is reset), and reads admissibility and the measured cells onto it.
+    /// Forgets the gains and costs of the last update, lays the class rasters out on the
+    /// descriptors' storage rectangle (kept when it is unchanged: the class maps are then
+    /// brought up to date near what changed), and reads admissibility and the measured cells
+    /// onto it.
     fn reset_classes(&mut self, map: &ElevationMap, desc: &DescriptorField) {
         self.rect = desc.rect();
         self.cell_size = map.cell_size();
@@ -362,12 +403,10 @@ impl GaitCostModel {
             self.plan_class = vec![TerrainCell::Unknown; store.len()];
             self.measured_mask = vec![false; store.len()];
             self.mask_applied = 0;
-        } else {
-            for &k in &self.support {
-                self.learn_class[k as usize] = TerrainCell::Unknown;
-                self.plan_class[k as usize] = TerrainCell::Unknown;
-            }
+            self.raw.reset(store.len());
+            self.support.clear();
         }
+        std::mem::swap(&mut self.prev_support, &mut self.support);
         self.support.clear();
         self.support.extend_from_slice(desc.described_indices());
         for c in &self.measured[self.mask_applied..] {
