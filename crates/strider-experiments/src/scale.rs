@@ -96,6 +96,19 @@ pub struct ScaleWindow {
     pub view_ms_median: Option<f64>,
     /// Median GTSP solve time of the window's replans, ms.
     pub gtsp_ms_median: Option<f64>,
+    /// The window's learning updates, ms.
+    pub learning_ms: Option<Quantiles>,
+}
+
+/// How one gait's class maps were brought up to date over the mission.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Classification {
+    /// Learning updates that classified every described cell.
+    pub full: u64,
+    /// Learning updates that classified only the cells that may have changed class.
+    pub partial: u64,
+    /// Cells classified, over all updates.
+    pub cells: u64,
 }
 
 /// `scale.json`.
@@ -124,6 +137,9 @@ pub struct ScaleReport {
     pub spatial_goal_ms: Option<Quantiles>,
     /// Learning updates, ms.
     pub learning_ms: Option<Quantiles>,
+    /// Per gait: how its class maps were brought up to date (every cell, or only the cells
+    /// that may have changed class) and the cells classified in all.
+    pub classification: Vec<Classification>,
     /// The windows, in time order.
     pub windows: Vec<ScaleWindow>,
 }
@@ -223,7 +239,25 @@ pub fn scale(o: &ScaleOptions, out: &Path, progress: &dyn Progress) -> Result<Sc
         data_to_tour_ms: Quantiles::of(&log.goals_to_tour_ms),
         spatial_goal_ms: Quantiles::of(&log.spatial_goal_ms),
         learning_ms: Quantiles::of(&log.learning_ms),
-        windows: windows(&samples, &replans, o.window_s),
+        classification: mission
+            .strategy()
+            .models()
+            .iter()
+            .map(|m| {
+                let c = m.classification_counts();
+                Classification {
+                    full: c.full,
+                    partial: c.partial,
+                    cells: c.cells,
+                }
+            })
+            .collect(),
+        windows: windows(
+            &samples,
+            &replans,
+            &learning_updates(&log.learning_at_s, &log.learning_ms),
+            o.window_s,
+        ),
     };
     create_dir(out)?;
     write_json(&out.join("scale.json"), &report)?;
@@ -232,9 +266,19 @@ pub fn scale(o: &ScaleOptions, out: &Path, progress: &dyn Progress) -> Result<Sc
     Ok(report)
 }
 
-/// The windows of `window_s` simulated seconds: cells, real-time factor and the replans'
-/// latencies.
-fn windows(samples: &[Sample], replans: &[Replan], window_s: f64) -> Vec<ScaleWindow> {
+/// (robot time s, latency ms) of each learning update.
+fn learning_updates(at: &[f64], ms: &[f64]) -> Vec<(f64, f64)> {
+    at.iter().copied().zip(ms.iter().copied()).collect()
+}
+
+/// The windows of `window_s` simulated seconds: cells, real-time factor, the replans'
+/// latencies and the learning updates' (robot time s, ms).
+fn windows(
+    samples: &[Sample],
+    replans: &[Replan],
+    learning: &[(f64, f64)],
+    window_s: f64,
+) -> Vec<ScaleWindow> {
     let Some(last) = samples.last() else {
         return Vec::new();
     };
@@ -264,6 +308,13 @@ fn windows(samples: &[Sample], replans: &[Replan], window_s: f64) -> Vec<ScaleWi
             all_pairs_ms_median: Quantiles::of(&of(|r| r.all_pairs_ms)).map(|q| q.median),
             view_ms_median: Quantiles::of(&of(|r| r.view_ms)).map(|q| q.median),
             gtsp_ms_median: Quantiles::of(&of(|r| r.gtsp_ms)).map(|q| q.median),
+            learning_ms: Quantiles::of(
+                &learning
+                    .iter()
+                    .filter(|(t, _)| *t > prev.t && *t <= end.t + 1e-9)
+                    .map(|&(_, ms)| ms)
+                    .collect::<Vec<f64>>(),
+            ),
         });
         prev = end;
     }
@@ -366,6 +417,17 @@ pub fn markdown(r: &ScaleReport) -> String {
         r.peak_rss_mib
             .map_or("not measured".into(), |m| format!("{m:.0} MiB"))
     );
+    for (g, c) in r.classification.iter().enumerate() {
+        let _ = writeln!(
+            md,
+            "- gait {g}: {} learning updates classified every cell, {} only the cells that may \
+             have changed class; {} cells classified in all",
+            c.full, c.partial, c.cells
+        );
+    }
+    if !r.classification.is_empty() {
+        md.push('\n');
+    }
     let _ = writeln!(
         md,
         "`scale.png`: per bucket of cells observed (x: bucket number × the bucket size in its \
@@ -374,18 +436,19 @@ pub fn markdown(r: &ScaleReport) -> String {
     );
     let _ = writeln!(
         md,
-        "| simulated time | cells observed | real-time factor | replan ms (median / p95 / max) | new data → new tour ms | GTSP vertices (median) | view / all-pairs / GTSP ms (medians) |\n|---|---|---|---|---|---|---|"
+        "| simulated time | cells observed | real-time factor | replan ms (median / p95 / max) | new data → new tour ms | learning ms | GTSP vertices (median) | view / all-pairs / GTSP ms (medians) |\n|---|---|---|---|---|---|---|---|"
     );
     for w in &r.windows {
         let opt = |v: Option<f64>| v.map_or("–".into(), |v| format!("{v:.0}"));
         let _ = writeln!(
             md,
-            "| {:.0} s | {} | {:.0}× | {} | {} | {} | {} / {} / {} |",
+            "| {:.0} s | {} | {:.0}× | {} | {} | {} | {} | {} / {} / {} |",
             w.t_end_s,
             w.observed_cells,
             w.real_time_factor,
             fmt_q(&w.replan_ms),
             fmt_q(&w.data_to_tour_ms),
+            fmt_q(&w.learning_ms),
             opt(w.vertices_median),
             opt(w.view_ms_median),
             opt(w.all_pairs_ms_median),
@@ -428,12 +491,15 @@ mod tests {
                 gtsp_ms: 1.0,
             })
             .collect();
-        let w = windows(&samples, &replans, 50.0);
+        let learning = [(12.0, 3.0), (48.0, 5.0), (71.0, 9.0)];
+        let w = windows(&samples, &replans, &learning, 50.0);
         assert_eq!(w.len(), 2);
         assert_eq!((w[0].t_end_s, w[0].observed_cells), (50.0, 500));
         assert!((w[0].real_time_factor - 20.0).abs() < 1e-9);
         assert_eq!(w[0].replan_ms.unwrap().count, 5);
         assert_eq!(w[1].replan_ms.unwrap().max, 10.0);
+        assert_eq!(w[0].learning_ms.unwrap().count, 2);
+        assert_eq!(w[1].learning_ms.unwrap().median, 9.0);
         assert_eq!(cells_at(&samples, 35.0), 300);
         assert_eq!(nice_bucket(4_000_000), 100_000);
         assert_eq!(nice_bucket(500), 1000);

@@ -20,6 +20,8 @@ pub struct MissionLog {
     /// Wall-clock latency of each learning update (descriptors, Alg. 5–10 for every gait, cost
     /// goals), ms.
     pub learning_ms: Vec<f64>,
+    /// Robot time of each learning update, s, in the order of `learning_ms`.
+    pub learning_at_s: Vec<f64>,
     /// Cost goals reached and sampled, per gait.
     pub samplings: Vec<usize>,
     /// Cost samples stored per gait.
@@ -81,6 +83,7 @@ impl MissionLog {
             replan_parts: Vec::new(),
             spatial_goal_ms: Vec::new(),
             learning_ms: Vec::new(),
+            learning_at_s: Vec::new(),
             samplings: vec![0; gaits],
             cost_samples: vec![0; gaits],
             stuck_events: 0,

@@ -14,7 +14,11 @@ impl TourExplorer {
     pub(super) fn learning_tick(&mut self, body: &mut Body, m: &mut Modules, t: f64) {
         if m.learning.due(t) {
             let w = Instant::now();
+            let before = self.log.learning_ms.len();
             self.update_learning(body);
+            if self.log.learning_ms.len() > before {
+                self.log.learning_at_s.push(t);
+            }
             self.log.phase_wall_s.learning += w.elapsed().as_secs_f64();
         }
     }
