@@ -137,6 +137,8 @@ pub struct ScaleReport {
     pub spatial_goal_ms: Option<Quantiles>,
     /// Learning updates, ms.
     pub learning_ms: Option<Quantiles>,
+    /// Wall time per part of the mission loop, s.
+    pub phase_wall_s: strider_explore::PhaseWall,
     /// Per gait: how its class maps were brought up to date (every cell, or only the cells
     /// that may have changed class) and the cells classified in all.
     pub classification: Vec<Classification>,
@@ -239,6 +241,7 @@ pub fn scale(o: &ScaleOptions, out: &Path, progress: &dyn Progress) -> Result<Sc
         data_to_tour_ms: Quantiles::of(&log.goals_to_tour_ms),
         spatial_goal_ms: Quantiles::of(&log.spatial_goal_ms),
         learning_ms: Quantiles::of(&log.learning_ms),
+        phase_wall_s: log.phase_wall_s,
         classification: mission
             .strategy()
             .models()
@@ -416,6 +419,13 @@ pub fn markdown(r: &ScaleReport) -> String {
         fmt_q(&r.learning_ms),
         r.peak_rss_mib
             .map_or("not measured".into(), |m| format!("{m:.0} MiB"))
+    );
+    let p = &r.phase_wall_s;
+    let _ = writeln!(
+        md,
+        "- wall time by part, s: robot (simulator, with mapping) {:.0}, mapping {:.0}, spatial \
+         goals {:.0}, learning {:.0}, planning {:.0}, gait {:.0}",
+        p.robot, p.mapping, p.spatial, p.learning, p.planning, p.gait
     );
     for (g, c) in r.classification.iter().enumerate() {
         let _ = writeln!(

@@ -223,9 +223,11 @@ fn synchronous_steps(
     let h = values.len() / w;
     let mut changes: Vec<(usize, TerrainCell)> = Vec::new();
     let mut visit: Vec<u32> = Vec::new();
+    let mut near_changes = false;
+    let span = (2 * reach + 1) * (2 * reach + 1);
     for step in 0..steps {
         changes.clear();
-        let cells = if step == 0 { support } else { &visit[..] };
+        let cells = if near_changes { &visit[..] } else { support };
         for &k in cells {
             let k = k as usize;
             if k >= values.len() {
@@ -241,7 +243,9 @@ fn synchronous_steps(
         for &(k, v) in &changes {
             values[k] = v;
         }
-        if step + 1 < steps {
+        // Listing the cells near many changes costs more than visiting the whole support.
+        near_changes = step + 1 < steps && changes.len().saturating_mul(span) < support.len();
+        if near_changes {
             next_visit(&changes, w, h, reach, &mut visit);
         }
     }
