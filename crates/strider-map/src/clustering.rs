@@ -48,7 +48,7 @@ pub fn greedy_clusters(cells: &[Cell], radius: f64) -> Vec<Vec<usize>> {
     // Per cluster: Σi, Σj, n (centres in lattice units; exact for integer sums).
     let mut sums: Vec<(f64, f64, f64)> = Vec::new();
     let mut clusters: Vec<Vec<usize>> = Vec::new();
-    let mut buckets = CentreBuckets::new(radius);
+    let mut buckets = CentreBuckets::new(radius, cells);
     let r2 = radius * radius;
     for (k, &c) in cells.iter().enumerate() {
         let (x, y) = (c.i as f64, c.j as f64);
@@ -81,50 +81,80 @@ pub fn greedy_clusters(cells: &[Cell], radius: f64) -> Vec<Vec<usize>> {
     clusters
 }
 
-/// Cluster centres by square bucket.
+/// Cluster centres by square bucket, in a dense grid over the cells' bounding box (a centre
+/// is a mean of cells, so it lies inside it). A bucket is at least `radius` wide, wider when
+/// the grid would otherwise hold many more buckets than there are cells.
 struct CentreBuckets {
     side: f64,
-    map: std::collections::HashMap<(i64, i64), Vec<usize>>,
+    origin: (f64, f64),
+    dims: (i64, i64),
+    buckets: Vec<Vec<usize>>,
 }
 
 impl CentreBuckets {
-    fn new(side: f64) -> Self {
+    fn new(radius: f64, cells: &[Cell]) -> Self {
+        let lo = cells
+            .iter()
+            .fold((i32::MAX, i32::MAX), |a, c| (a.0.min(c.i), a.1.min(c.j)));
+        let hi = cells
+            .iter()
+            .fold((i32::MIN, i32::MIN), |a, c| (a.0.max(c.i), a.1.max(c.j)));
+        let extent = if cells.is_empty() {
+            (1.0, 1.0)
+        } else {
+            (
+                f64::from(hi.0) - f64::from(lo.0) + 1.0,
+                f64::from(hi.1) - f64::from(lo.1) + 1.0,
+            )
+        };
+        let most = 4.0 * cells.len() as f64 + 1024.0;
+        let least = (extent.0 * extent.1 / most).sqrt();
+        let side = if radius.is_finite() && radius > 0.0 {
+            radius.max(least)
+        } else {
+            f64::MAX
+        };
+        let dims = (
+            (extent.0 / side).ceil().max(1.0) as i64,
+            (extent.1 / side).ceil().max(1.0) as i64,
+        );
         Self {
-            side: if side.is_finite() && side > 0.0 {
-                side
-            } else {
-                f64::MAX
-            },
-            map: std::collections::HashMap::new(),
+            side,
+            origin: (f64::from(lo.0.min(hi.0)), f64::from(lo.1.min(hi.1))),
+            dims,
+            buckets: vec![Vec::new(); (dims.0 * dims.1) as usize],
         }
     }
 
+    /// The bucket (column, row) of (x, y), clamped to the grid.
     fn key(&self, x: f64, y: f64) -> (i64, i64) {
+        let f = |v: f64, o: f64, n: i64| (((v - o) / self.side).floor() as i64).clamp(0, n - 1);
         (
-            (x / self.side).floor() as i64,
-            (y / self.side).floor() as i64,
+            f(x, self.origin.0, self.dims.0),
+            f(y, self.origin.1, self.dims.1),
         )
+    }
+
+    fn at(&mut self, (bx, by): (i64, i64)) -> &mut Vec<usize> {
+        &mut self.buckets[(by * self.dims.0 + bx) as usize]
     }
 
     fn insert(&mut self, cl: usize, x: f64, y: f64) {
         let k = self.key(x, y);
-        self.map.entry(k).or_default().push(cl);
+        self.at(k).push(cl);
     }
 
     fn remove(&mut self, cl: usize, x: f64, y: f64) {
         let k = self.key(x, y);
-        if let Some(v) = self.map.get_mut(&k) {
-            v.retain(|&c| c != cl);
-        }
+        self.at(k).retain(|&c| c != cl);
     }
 
     /// Calls `visit` with every cluster whose centre lies within two buckets of (x, y)'s.
     fn for_each_near(&self, x: f64, y: f64, mut visit: impl FnMut(usize)) {
         let (bx, by) = self.key(x, y);
-        for dy in -2..=2 {
-            for dx in -2..=2 {
-                let k = (bx.saturating_add(dx), by.saturating_add(dy));
-                for &cl in self.map.get(&k).into_iter().flatten() {
+        for ny in (by - 2).max(0)..=(by + 2).min(self.dims.1 - 1) {
+            for nx in (bx - 2).max(0)..=(bx + 2).min(self.dims.0 - 1) {
+                for &cl in &self.buckets[(ny * self.dims.0 + nx) as usize] {
                     visit(cl);
                 }
             }
