@@ -105,10 +105,31 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
     }
     let slope = c_loss * grid.cell_size(); // per cell
     let mut out: Vec<f64> = cost.iter().map(|&c| c as f64).collect();
+    let covered = |i: i64, j: i64, cs: f64| {
+        // A missing neighbour is never the step towards an in-grid cell.
+        i < 0 || i >= w || j < 0 || j >= h || {
+            let c = cost[(j * w + i) as usize];
+            c.is_finite() && c as f64 >= cs
+        }
+    };
+    // The sources worth scattering, before sorting them: cones that can raise something, off
+    // plateau interiors (both tests read only the input, so the order of the rest is as if
+    // every cell were sorted).
     let mut order: Vec<u32> = (0..cost.len() as u32)
-        .filter(|&k| cost[k as usize].is_finite())
+        .filter(|&k| {
+            let cs = cost[k as usize] as f64;
+            if !cs.is_finite() || cs <= c_min {
+                return false;
+            }
+            let (si, sj) = ((k as i64) % w, (k as i64) / w);
+            // A plateau interior: its neighbours' cones cover its own.
+            !(covered(si - 1, sj, cs)
+                && covered(si + 1, sj, cs)
+                && covered(si, sj - 1, cs)
+                && covered(si, sj + 1, cs))
+        })
         .collect();
-    order.sort_by(|&a, &b| {
+    order.sort_unstable_by(|&a, &b| {
         cost[b as usize]
             .total_cmp(&cost[a as usize])
             .then(a.cmp(&b))
@@ -116,21 +137,10 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
     for &s in &order {
         let s = s as usize;
         let cs = cost[s] as f64;
-        if out[s] > cs || cs <= c_min {
-            continue; // dominated, or a cone that cannot raise anything
+        if out[s] > cs {
+            continue; // dominated
         }
         let (si, sj) = ((s as i64) % w, (s as i64) / w);
-        let covered = |i: i64, j: i64| {
-            // A missing neighbour is never the step towards an in-grid cell.
-            i < 0 || i >= w || j < 0 || j >= h || {
-                let c = cost[(j * w + i) as usize];
-                c.is_finite() && c as f64 >= cs
-            }
-        };
-        if covered(si - 1, sj) && covered(si + 1, sj) && covered(si, sj - 1) && covered(si, sj + 1)
-        {
-            continue; // a plateau interior: its neighbours' cones cover its own
-        }
         let r = (cs - c_min) / slope;
         let rc = r.floor() as i64;
         for dj in -rc..=rc {
