@@ -106,15 +106,39 @@ impl ClusterOpt {
     }
 }
 
+/// A set's place in the tour: its position, its vertex, the vertices before and after it and
+/// the costs of the arcs from and to them. The moves try the two tour edges at each of a set's
+/// neighbour sets; one record per neighbour holds all they read of the tour.
+#[derive(Clone, Copy, Default)]
+struct Link {
+    pos: u32,
+    pred: u32,
+    vert: u32,
+    succ: u32,
+    /// `d(pred, vert)`.
+    ein: i64,
+    /// `d(vert, succ)`.
+    eout: i64,
+}
+
 /// Dirty-set driven local search over the set order (see module docs).
 #[derive(Default)]
 pub(crate) struct LocalSearch {
-    /// Position of each set in the tour.
-    pos: Vec<u32>,
+    /// Place of each set in the tour.
+    link: Vec<Link>,
     /// Forward prefix sums: `fwd[k] = Σ_{x<k} d(t[x], t[x+1])`.
     fwd: Vec<i64>,
     /// Backward prefix sums: `bwd[k] = Σ_{x<k} d(t[x+1], t[x])`.
     bwd: Vec<i64>,
+    /// Cost of tour edge `k`: `edge[k] = d(t[k], t[k+1 mod m])`, read in the moves' inner loops
+    /// instead of a scattered matrix entry.
+    edge: Vec<i64>,
+    /// Incremented whenever the tour changes ([`Self::refresh`]).
+    version: u64,
+    /// `or_failed[2·s + len − 2] == version`: the or-opt move of the segment of `len` sets
+    /// starting at set `s` found nothing on this very tour. Both end sets of a segment try it,
+    /// and neighbouring sets are often dirty together, so the second try is skipped.
+    or_failed: Vec<u64>,
     queue: Vec<u32>,
     queued: Vec<bool>,
     scratch: Vec<u32>,
@@ -144,7 +168,7 @@ const CLOCK_EVERY: usize = 256;
 impl LocalSearch {
     pub fn new(m: usize) -> Self {
         Self {
-            pos: vec![0; m],
+            link: vec![Link::default(); m],
             queued: vec![false; m],
             or_opt: true,
             two_opt: true,
@@ -155,17 +179,33 @@ impl LocalSearch {
 
     fn refresh(&mut self, p: &Problem, t: &[u32]) {
         let m = t.len();
-        self.fwd.clear();
-        self.bwd.clear();
+        self.version += 1;
+        self.fwd.resize(m, 0);
+        self.bwd.resize(m, 0);
+        self.edge.resize(m, 0);
+        let (fwd, bwd, edge) = (&mut self.fwd[..m], &mut self.bwd[..m], &mut self.edge[..m]);
         let (mut f, mut b) = (0i64, 0i64);
-        for (i, &v) in t.iter().enumerate() {
-            self.pos[p.set_of(v)] = i as u32;
-            self.fwd.push(f);
-            self.bwd.push(b);
-            if i + 1 < m {
-                f += p.d(v, t[i + 1]);
-                b += p.d(t[i + 1], v);
-            }
+        let mut pred = t[m - 1];
+        let mut ein = p.d(pred, t[0]);
+        for i in 0..m {
+            let v = t[i];
+            let w = if i + 1 < m { t[i + 1] } else { t[0] };
+            let e = p.d(v, w);
+            fwd[i] = f;
+            bwd[i] = b;
+            edge[i] = e;
+            self.link[p.set_of(v)] = Link {
+                pos: i as u32,
+                pred,
+                vert: v,
+                succ: w,
+                ein,
+                eout: e,
+            };
+            f += e;
+            b += p.d(w, v);
+            pred = v;
+            ein = e;
         }
     }
 
@@ -192,8 +232,10 @@ impl LocalSearch {
         if m < 3 {
             return self.co.run(p, tour);
         }
-        self.pos.resize(p.m, 0);
+        self.link.resize(p.m, Link::default());
         self.queued.resize(p.m, false);
+        // Version 0 marks no segment: entries of an earlier run are below the current version.
+        self.or_failed.resize(2 * p.m, 0);
         match dirty {
             Some(ds) => {
                 for &s in ds {
@@ -219,7 +261,7 @@ impl LocalSearch {
                     }
                     return cost;
                 }
-                let i = self.pos[s as usize] as usize;
+                let i = self.link[s as usize].pos as usize;
                 if let Some(delta) = self.improve_at(p, tour, i) {
                     debug_assert!(delta < 0);
                     cost += delta;
@@ -277,9 +319,14 @@ impl LocalSearch {
                     break;
                 }
                 for start in [i, (i + m + 1 - len) % m] {
+                    let key = 2 * p.set_of(t[start]) + len - 2;
+                    if self.or_failed[key] == self.version {
+                        continue;
+                    }
                     if let Some(d) = self.or_move(p, t, start, len) {
                         return Some(d);
                     }
+                    self.or_failed[key] = self.version;
                 }
             }
         }
@@ -309,14 +356,9 @@ impl LocalSearch {
         let gain = p.d(prev, v) + p.d(v, next) - p.d(prev, next);
         let range = p.set_range(s);
         let mut best = (gain, usize::MAX, 0u32); // (insert cost, after-position, vertex)
-        let eval = |j: usize, best: &mut (i64, usize, u32)| {
-            // Edge j of the tour without position i; j == i is (prev, next).
-            let (a, b) = if j == i {
-                (prev, next)
-            } else {
-                (t[j], t[wrap(j + 1, m)])
-            };
-            let base = p.d(a, b);
+        // Inserting on edge j = (a, b) of cost `base` of the tour without position i (j == i is
+        // (prev, next)).
+        let eval = |a: u32, b: u32, base: i64, j: usize, best: &mut (i64, usize, u32)| {
             let ra = &p.row(a)[range.clone()];
             let cb = &p.col(b)[range.clone()];
             for (k, (x, y)) in ra.iter().zip(cb).enumerate() {
@@ -326,20 +368,28 @@ impl LocalSearch {
                 }
             }
         };
+        let gap = p.d(prev, next);
         if self.nn + 1 >= m {
             for j in 0..m {
-                if j != im1 {
-                    eval(j, &mut best);
+                if j == i {
+                    eval(prev, next, gap, j, &mut best);
+                } else if j != im1 {
+                    eval(t[j], t[wrap(j + 1, m)], self.edge[j], j, &mut best);
                 }
             }
         } else {
-            eval(i, &mut best);
+            eval(prev, next, gap, i, &mut best);
+            let (sp, sn) = (p.set_of(prev) as u32, p.set_of(next) as u32);
             for &y in &p.set_nbrs[s][..self.nn] {
-                let q = self.pos[y as usize] as usize;
-                for j in [wrap(q + m - 1, m), q] {
-                    if j != im1 && j != i {
-                        eval(j, &mut best);
-                    }
+                let l = &self.link[y as usize];
+                let q = l.pos as usize;
+                // Edge q − 1 = (pred(y), y) is edge i when y is the next set, and edge
+                // q = (y, succ(y)) is the removed edge (prev, X) when y is the previous set.
+                if y != sn {
+                    eval(l.pred, l.vert, l.ein, wrap(q + m - 1, m), &mut best);
+                }
+                if y != sp {
+                    eval(l.vert, l.succ, l.eout, q, &mut best);
                 }
             }
         }
@@ -370,22 +420,6 @@ impl LocalSearch {
         (self.fwd[hi] - self.fwd[lo], self.bwd[hi] - self.bwd[lo])
     }
 
-    /// Gain of the 2-opt move on edges `lo < hi` (reverse `t[lo+1..=hi]`).
-    #[inline]
-    fn two_opt_delta(&self, p: &Problem, t: &[u32], lo: usize, hi: usize) -> i64 {
-        let m = t.len();
-        let a = t[lo];
-        let b = t[lo + 1];
-        let c = t[hi];
-        let e = t[wrap(hi + 1, m)];
-        let mut delta = p.d(a, c) + p.d(b, e) - p.d(a, b) - p.d(c, e);
-        if !p.symmetric {
-            let (f, r) = self.seg_costs(lo + 1, hi);
-            delta += r - f;
-        }
-        delta
-    }
-
     /// Best 2-opt move between edge `k` = (t[k], t[k+1]) and another edge.
     /// With neighbour lists, `x` is the vertex of the dirty set (`t[k]` if
     /// `x_first`, else `t[k+1]`) and only moves creating an edge between `x`
@@ -393,28 +427,43 @@ impl LocalSearch {
     fn two_opt_edge(&mut self, p: &Problem, t: &mut [u32], k: usize, x_first: bool) -> Option<i64> {
         let m = t.len();
         let mut best = (0i64, usize::MAX, usize::MAX);
-        let consider = |j: usize, best: &mut (i64, usize, usize)| {
+        let (tk, tk1, ek) = (t[k], t[wrap(k + 1, m)], self.edge[k]);
+        // The move on edges lo < hi reverses t[lo+1..=hi]; edge j = (a, b) of cost `ej`.
+        let consider = |j: usize, a: u32, b: u32, ej: i64, best: &mut (i64, usize, usize)| {
             let (lo, hi) = if j < k { (j, k) } else { (k, j) };
             if hi < lo + 2 {
                 return;
             }
-            let delta = self.two_opt_delta(p, t, lo, hi);
+            let (a, b, c, e) = if j < k {
+                (a, b, tk, tk1)
+            } else {
+                (tk, tk1, a, b)
+            };
+            let mut delta = p.d(a, c) + p.d(b, e) - ej - ek;
+            if !p.symmetric {
+                let (f, r) = self.seg_costs(lo + 1, hi);
+                delta += r - f;
+            }
             if delta < best.0 {
                 *best = (delta, lo, hi);
             }
         };
         if self.nn + 1 >= m {
             for j in 0..m {
-                consider(j, &mut best);
+                consider(j, t[j], t[wrap(j + 1, m)], self.edge[j], &mut best);
             }
         } else {
-            let x = if x_first { t[k] } else { t[wrap(k + 1, m)] };
+            let x = if x_first { tk } else { tk1 };
             for &y in &p.set_nbrs[p.set_of(x)][..self.nn] {
-                let q = self.pos[y as usize] as usize;
+                let l = &self.link[y as usize];
+                let q = l.pos as usize;
                 // x = t[k]: edge pair (k, q) creates (x, t[q]);
                 // x = t[k+1]: edge pair (k, q-1) creates (x, t[q]).
-                let j = if x_first { q } else { wrap(q + m - 1, m) };
-                consider(j, &mut best);
+                if x_first {
+                    consider(q, l.vert, l.succ, l.eout, &mut best);
+                } else {
+                    consider(wrap(q + m - 1, m), l.pred, l.vert, l.ein, &mut best);
+                }
             }
         }
         if best.1 == usize::MAX {
@@ -446,10 +495,9 @@ impl LocalSearch {
         // costs of a candidate edge come from these short slices instead of scattered rows.
         let (into_s1, into_sl) = (p.col(s1), p.col(sl));
         let (from_s1, from_sl) = (p.row(s1), p.row(sl));
-        let eval = |j: usize, best: &mut (i64, usize, bool)| {
-            let c = t[j] as usize;
-            let e = t[wrap(j + 1, m)] as usize;
-            let base = p.d(c as u32, e as u32);
+        // Inserting on edge j = (c, e) of cost `base`.
+        let eval = |c: u32, e: u32, base: i64, j: usize, best: &mut (i64, usize, bool)| {
+            let (c, e) = (c as usize, e as usize);
             let f = into_s1[c] + from_sl[e] - base;
             if f < best.0 {
                 *best = (f, j, false);
@@ -462,18 +510,22 @@ impl LocalSearch {
         if self.nn + 1 >= m {
             // Candidate edges (t[j], t[j+1]) of the rest: j from start+len to start+m-2.
             for off in len..m - 1 {
-                eval(wrap(start + off, m), &mut best);
+                let j = wrap(start + off, m);
+                eval(t[j], t[wrap(j + 1, m)], self.edge[j], j, &mut best);
             }
         } else {
             for end in [s1, sl] {
                 for &y in &p.set_nbrs[p.set_of(end)][..self.nn] {
-                    let q = self.pos[y as usize] as usize;
-                    for j in [wrap(q + m - 1, m), q] {
-                        // Skip edges touching the segment: offsets m-1 and 0..len.
-                        let off = wrap(j + m - start, m);
-                        if off >= len && off < m - 1 {
-                            eval(j, &mut best);
-                        }
+                    let l = &self.link[y as usize];
+                    let q = l.pos as usize;
+                    // Edges touching the segment are at offsets m − 1 and 0..len from its
+                    // start; edge q − 1 = (pred(y), y) is at offset off − 1, edge q at off.
+                    let off = wrap(q + m - start, m);
+                    if off > len {
+                        eval(l.pred, l.vert, l.ein, wrap(q + m - 1, m), &mut best);
+                    }
+                    if off >= len && off < m - 1 {
+                        eval(l.vert, l.succ, l.eout, q, &mut best);
                     }
                 }
             }
