@@ -41,6 +41,13 @@ pub(crate) struct Problem {
     pub set_dist: Vec<i64>,
     /// For each set, the other sets sorted by `set_dist`.
     pub set_nbrs: Vec<Vec<u32>>,
+    /// Cheapest arc into each vertex from a vertex of another set.
+    pub min_in: Vec<i64>,
+    /// Cheapest arc out of each vertex to a vertex of another set.
+    pub min_out: Vec<i64>,
+    /// For each set, the least `min_in + min_out` of its vertices: no insertion of the set on
+    /// an edge of cost `c` costs less than this minus `c`.
+    pub set_min_through: Vec<i64>,
 }
 
 impl Problem {
@@ -120,9 +127,42 @@ impl Problem {
             anchor: anchor_int,
             set_dist: Vec::new(),
             set_nbrs: Vec::new(),
+            min_in: Vec::new(),
+            min_out: Vec::new(),
+            set_min_through: Vec::new(),
         };
         p.build_set_distances();
+        p.build_min_arcs();
         p
+    }
+
+    fn build_min_arcs(&mut self) {
+        let min_off_set = |costs: &[i64], own: std::ops::Range<usize>| {
+            let (before, rest) = costs.split_at(own.start);
+            let after = &rest[own.len()..];
+            before
+                .iter()
+                .chain(after)
+                .copied()
+                .min()
+                .unwrap_or(i64::MAX)
+        };
+        let (mut min_in, mut min_out) = (Vec::with_capacity(self.nv), Vec::with_capacity(self.nv));
+        for v in 0..self.nv as u32 {
+            let own = self.set_range(self.set_of(v));
+            min_in.push(min_off_set(self.col(v), own.clone()));
+            min_out.push(min_off_set(self.row(v), own));
+        }
+        self.set_min_through = (0..self.m)
+            .map(|s| {
+                self.set_range(s)
+                    .map(|v| min_in[v].saturating_add(min_out[v]))
+                    .min()
+                    .unwrap_or(i64::MAX)
+            })
+            .collect();
+        self.min_in = min_in;
+        self.min_out = min_out;
     }
 
     fn build_set_distances(&mut self) {

@@ -358,7 +358,12 @@ impl LocalSearch {
         let mut best = (gain, usize::MAX, 0u32); // (insert cost, after-position, vertex)
         // Inserting on edge j = (a, b) of cost `base` of the tour without position i (j == i is
         // (prev, next)).
+        let through = p.set_min_through[s];
         let eval = |a: u32, b: u32, base: i64, j: usize, best: &mut (i64, usize, u32)| {
+            // No vertex of the set costs less than `through - base` here.
+            if through - base >= best.0 {
+                return;
+            }
             let ra = &p.row(a)[range.clone()];
             let cb = &p.col(b)[range.clone()];
             for (k, (x, y)) in ra.iter().zip(cb).enumerate() {
@@ -496,7 +501,13 @@ impl LocalSearch {
         let (into_s1, into_sl) = (p.col(s1), p.col(sl));
         let (from_s1, from_sl) = (p.row(s1), p.row(sl));
         // Inserting on edge j = (c, e) of cost `base`.
+        // Lower bounds of the forward and reversed insertion costs plus the edge's cost.
+        let bound = (p.min_in[s1 as usize] + p.min_out[sl as usize])
+            .min(p.min_in[sl as usize] + p.min_out[s1 as usize] + rev_extra);
         let eval = |c: u32, e: u32, base: i64, j: usize, best: &mut (i64, usize, bool)| {
+            if bound - base >= best.0 {
+                return;
+            }
             let (c, e) = (c as usize, e as usize);
             let f = into_s1[c] + from_sl[e] - base;
             if f < best.0 {
