@@ -3,7 +3,7 @@
 //! ```text
 //! cargo run --release -p strider-plan --example gtsp_small_bench -- gtsplib \
 //!     [--dir /work/shared/data/gtsplib] [--min-sets 31] [--max-sets 89] [--runs 3] [--seed 1] \
-//!     [--trials N] [--stall-trials N] [--stall-per-set N]
+//!     [--trials N] [--stall-trials N] [--stall-per-set N] [--iterations N]
 //! cargo run --release -p strider-plan --example gtsp_small_bench -- mission \
 //!     [--dir /work/shared/data/gtsplib] [--max-sets 40] [--runs 5] [--seed 1] \
 //!     [--trials N] [--iterations N] [--stall N] [--references FILE] [--warm-only 1]
@@ -11,7 +11,7 @@
 //!
 //! `gtsplib` solves every instance of the folder's `best_known.csv` within the set-count range
 //! with the default preset (`--trials`, `--stall-trials` and `--stall-per-set` override its trial counts and its stall
-//! iterations per set), `runs`
+//! iterations per set, `--iterations` its iterations per trial), `runs`
 //! seeds each, and prints per instance the best and mean gap, the
 //! minimum and mean time, iterations, the iterations done when the returned tour was found
 //! (`it_best`; the rest confirmed it) and trials.
@@ -44,7 +44,7 @@ struct Args {
     stall_trials: Option<usize>,
     /// Override of the preset's stall iterations per set (`--stall-per-set`).
     stall_per_set: Option<u64>,
-    /// `mission`: override of the mission budget's iterations per trial (`--iterations`).
+    /// Override of the iterations per trial (`--iterations`; `mission`: of the mission budget).
     iterations: Option<u64>,
     /// `mission`: override of the mission budget's stall iterations (`--stall`).
     stall: Option<u64>,
@@ -138,6 +138,7 @@ fn gtsplib(a: &Args) {
             let p = SolverParams {
                 seed: a.seed.wrapping_add(k),
                 max_trials: a.trials,
+                max_iterations: a.iterations,
                 stall_trials: a.stall_trials,
                 stall_iterations: stall,
                 ..SolverParams::default()

@@ -444,11 +444,16 @@ impl LocalSearch {
             } else {
                 (tk, tk1, a, b)
             };
-            let mut delta = p.d(a, c) + p.d(b, e) - ej - ek;
+            let mut delta = -ej - ek;
             if !p.symmetric {
                 let (f, r) = self.seg_costs(lo + 1, hi);
                 delta += r - f;
             }
+            // The new arcs a → c and b → e cost at least the cheapest arcs out of a and b.
+            if delta + p.min_out[a as usize] + p.min_out[b as usize] >= best.0 {
+                return;
+            }
+            delta += p.d(a, c) + p.d(b, e);
             if delta < best.0 {
                 *best = (delta, lo, hi);
             }
