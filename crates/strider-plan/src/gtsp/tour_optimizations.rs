@@ -119,6 +119,8 @@ struct Link {
     ein: i64,
     /// `d(vert, succ)`.
     eout: i64,
+    /// `d(succ, vert)`.
+    eback: i64,
 }
 
 /// Dirty-set driven local search over the set order (see module docs).
@@ -177,6 +179,9 @@ impl LocalSearch {
         }
     }
 
+    /// Positions, records and prefix sums of tour `t`. A set whose vertex and successor are
+    /// those of its previous record keeps that record's arc costs: a move changes a few arcs,
+    /// and the matrix reads of all the others would be scattered.
     fn refresh(&mut self, p: &Problem, t: &[u32]) {
         let m = t.len();
         self.version += 1;
@@ -186,24 +191,34 @@ impl LocalSearch {
         let (fwd, bwd, edge) = (&mut self.fwd[..m], &mut self.bwd[..m], &mut self.edge[..m]);
         let (mut f, mut b) = (0i64, 0i64);
         let mut pred = t[m - 1];
-        let mut ein = p.d(pred, t[0]);
+        let arcs = |old: &Link, v: u32, w: u32| {
+            if old.vert == v && old.succ == w {
+                (old.eout, old.eback)
+            } else {
+                (p.d(v, w), p.d(w, v))
+            }
+        };
+        // The set at position m − 1 is read here and rewritten last.
+        let (mut ein, _) = arcs(&self.link[p.set_of(pred)], pred, t[0]);
         for i in 0..m {
             let v = t[i];
             let w = if i + 1 < m { t[i + 1] } else { t[0] };
-            let e = p.d(v, w);
+            let link = &mut self.link[p.set_of(v)];
+            let (e, back) = arcs(link, v, w);
             fwd[i] = f;
             bwd[i] = b;
             edge[i] = e;
-            self.link[p.set_of(v)] = Link {
+            *link = Link {
                 pos: i as u32,
                 pred,
                 vert: v,
                 succ: w,
                 ein,
                 eout: e,
+                eback: back,
             };
             f += e;
-            b += p.d(w, v);
+            b += back;
             pred = v;
             ein = e;
         }
