@@ -113,6 +113,19 @@ impl Noise {
         let r = self.state.wrapping_mul(0x2545_f491_4f6c_dd1d);
         (((r >> 32) * self.scale) >> 32) as i64
     }
+
+    /// Draws `n` values unseen: the state moves on exactly as `n` calls of `next` move it.
+    #[inline]
+    fn skip(&mut self, n: usize) {
+        if self.scale == 0 {
+            return;
+        }
+        for _ in 0..n {
+            self.state ^= self.state >> 12;
+            self.state ^= self.state << 25;
+            self.state ^= self.state >> 27;
+        }
+    }
 }
 
 impl Operators {
@@ -418,6 +431,12 @@ fn cheapest_on_edge(
 ) -> Option<(i64, u32)> {
     let range = p.set_range(s);
     let base = p.d(a, b);
+    // Noise is never negative, so no vertex costs less than this here; the set's draws are
+    // still made, so that the noise of later candidates stays the same.
+    if p.set_min_through[s] - base >= bound {
+        noise.skip(range.len());
+        return None;
+    }
     let ra = &p.row(a)[range.clone()];
     let cb = &p.col(b)[range.clone()];
     let mut best = None;
