@@ -128,10 +128,9 @@ struct Link {
 pub(crate) struct LocalSearch {
     /// Place of each set in the tour.
     link: Vec<Link>,
-    /// Forward prefix sums: `fwd[k] = Σ_{x<k} d(t[x], t[x+1])`.
-    fwd: Vec<i64>,
-    /// Backward prefix sums: `bwd[k] = Σ_{x<k} d(t[x+1], t[x])`.
-    bwd: Vec<i64>,
+    /// What reversing costs, as prefix sums over the tour's arcs (the last one closes it):
+    /// `rev[k] = Σ_{x<k} d(t[x+1], t[x]) − d(t[x], t[x+1])`, `k ≤ m`.
+    rev: Vec<i64>,
     /// Cost of tour edge `k`: `edge[k] = d(t[k], t[k+1 mod m])`, read in the moves' inner loops
     /// instead of a scattered matrix entry.
     edge: Vec<i64>,
@@ -185,11 +184,10 @@ impl LocalSearch {
     fn refresh(&mut self, p: &Problem, t: &[u32]) {
         let m = t.len();
         self.version += 1;
-        self.fwd.resize(m, 0);
-        self.bwd.resize(m, 0);
+        self.rev.resize(m + 1, 0);
         self.edge.resize(m, 0);
-        let (fwd, bwd, edge) = (&mut self.fwd[..m], &mut self.bwd[..m], &mut self.edge[..m]);
-        let (mut f, mut b) = (0i64, 0i64);
+        let (rev, edge) = (&mut self.rev[..m + 1], &mut self.edge[..m]);
+        let mut r = 0i64;
         let mut pred = t[m - 1];
         let arcs = |old: &Link, v: u32, w: u32| {
             if old.vert == v && old.succ == w {
@@ -205,8 +203,7 @@ impl LocalSearch {
             let w = if i + 1 < m { t[i + 1] } else { t[0] };
             let link = &mut self.link[p.set_of(v)];
             let (e, back) = arcs(link, v, w);
-            fwd[i] = f;
-            bwd[i] = b;
+            rev[i] = r;
             edge[i] = e;
             *link = Link {
                 pos: i as u32,
@@ -217,11 +214,11 @@ impl LocalSearch {
                 eout: e,
                 eback: back,
             };
-            f += e;
-            b += back;
+            r += back - e;
             pred = v;
             ein = e;
         }
+        rev[m] = r;
     }
 
     fn push(&mut self, s: usize) {
@@ -434,10 +431,10 @@ impl LocalSearch {
         Some(delta)
     }
 
-    /// Internal cost of `t[lo..=hi]` forward and backward (`lo <= hi`).
+    /// What reversing `t[lo..=hi]` adds to its internal cost (`lo <= hi < m`).
     #[inline]
-    fn seg_costs(&self, lo: usize, hi: usize) -> (i64, i64) {
-        (self.fwd[hi] - self.fwd[lo], self.bwd[hi] - self.bwd[lo])
+    fn rev_extra(&self, lo: usize, hi: usize) -> i64 {
+        self.rev[hi] - self.rev[lo]
     }
 
     /// Best 2-opt move between edge `k` = (t[k], t[k+1]) and another edge.
@@ -459,16 +456,12 @@ impl LocalSearch {
             } else {
                 (tk, tk1, a, b)
             };
-            let mut delta = -ej - ek;
-            if !p.symmetric {
-                let (f, r) = self.seg_costs(lo + 1, hi);
-                delta += r - f;
-            }
+            let delta = self.rev_extra(lo + 1, hi) - ej - ek;
             // The new arcs a → c and b → e cost at least the cheapest arcs out of a and b.
             if delta + p.min_out[a as usize] + p.min_out[b as usize] >= best.0 {
                 return;
             }
-            delta += p.d(a, c) + p.d(b, e);
+            let delta = delta + p.d(a, c) + p.d(b, e);
             if delta < best.0 {
                 *best = (delta, lo, hi);
             }
@@ -508,13 +501,14 @@ impl LocalSearch {
         let sl = at(start + len - 1);
         let prev = at(start + m - 1);
         let next = at(start + len);
-        let remove_gain = p.d(prev, s1) + p.d(sl, next) - p.d(prev, next);
-        let (mut fwd, mut bwd) = (0i64, 0i64);
-        for x in 0..len - 1 {
-            fwd += p.d(at(start + x), at(start + x + 1));
-            bwd += p.d(at(start + x + 1), at(start + x));
-        }
-        let rev_extra = bwd - fwd;
+        let end = start + len - 1;
+        let remove_gain =
+            self.edge[wrap(start + m - 1, m)] + self.edge[wrap(end, m)] - p.d(prev, next);
+        let rev_extra = if end < m {
+            self.rev_extra(start, end)
+        } else {
+            self.rev[m] - self.rev[start] + self.rev[end - m]
+        };
         let mut best = (remove_gain, usize::MAX, false);
         // The arcs into and out of the segment's ends as rows and columns: four of the five
         // costs of a candidate edge come from these short slices instead of scattered rows.
