@@ -514,22 +514,25 @@ impl LocalSearch {
         // costs of a candidate edge come from these short slices instead of scattered rows.
         let (into_s1, into_sl) = (p.col(s1), p.col(sl));
         let (from_s1, from_sl) = (p.row(s1), p.row(sl));
+        // Lower bounds of the forward and reversed insertion costs plus the edge's cost, from
+        // the ends' cheapest arcs: an orientation whose bound is not below the best so far is
+        // not read.
+        let kf = p.min_in[s1 as usize] + p.min_out[sl as usize];
+        let kr = p.min_in[sl as usize] + p.min_out[s1 as usize] + rev_extra;
         // Inserting on edge j = (c, e) of cost `base`.
-        // Lower bounds of the forward and reversed insertion costs plus the edge's cost.
-        let bound = (p.min_in[s1 as usize] + p.min_out[sl as usize])
-            .min(p.min_in[sl as usize] + p.min_out[s1 as usize] + rev_extra);
         let eval = |c: u32, e: u32, base: i64, j: usize, best: &mut (i64, usize, bool)| {
-            if bound - base >= best.0 {
-                return;
-            }
             let (c, e) = (c as usize, e as usize);
-            let f = into_s1[c] + from_sl[e] - base;
-            if f < best.0 {
-                *best = (f, j, false);
+            if kf - base < best.0 {
+                let f = into_s1[c] + from_sl[e] - base;
+                if f < best.0 {
+                    *best = (f, j, false);
+                }
             }
-            let r = into_sl[c] + from_s1[e] - base + rev_extra;
-            if r < best.0 {
-                *best = (r, j, true);
+            if kr - base < best.0 {
+                let r = into_sl[c] + from_s1[e] - base + rev_extra;
+                if r < best.0 {
+                    *best = (r, j, true);
+                }
             }
         };
         if self.nn + 1 >= m {
