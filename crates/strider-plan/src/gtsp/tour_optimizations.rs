@@ -371,12 +371,18 @@ impl LocalSearch {
         // Inserting on edge j = (a, b) of cost `base` of the tour without position i (j == i is
         // (prev, next)).
         let through = p.set_min_through[s];
+        let min_out = &p.min_out[range.clone()];
         let eval = |a: u32, b: u32, base: i64, j: usize, best: &mut (i64, usize, u32)| {
-            // No vertex of the set costs less than `through - base` here.
+            // No vertex of the set costs less than `through - base` here, nor less than its
+            // arc from `a` and its cheapest arc out: the arcs into `b` are read only if needed.
             if through - base >= best.0 {
                 return;
             }
             let ra = &p.row(a)[range.clone()];
+            let least = ra.iter().zip(min_out).map(|(x, o)| x + o).min();
+            if least.is_none_or(|l| l - base >= best.0) {
+                return;
+            }
             let cb = &p.col(b)[range.clone()];
             for (k, (x, y)) in ra.iter().zip(cb).enumerate() {
                 let c = x + y - base;
@@ -517,21 +523,28 @@ impl LocalSearch {
         // Lower bounds of the forward and reversed insertion costs plus the edge's cost, from
         // the ends' cheapest arcs: an orientation whose bound is not below the best so far is
         // not read.
-        let kf = p.min_in[s1 as usize] + p.min_out[sl as usize];
-        let kr = p.min_in[sl as usize] + p.min_out[s1 as usize] + rev_extra;
+        let (out_s1, out_sl) = (p.min_out[s1 as usize], p.min_out[sl as usize]);
+        let kf = p.min_in[s1 as usize] + out_sl;
+        let kr = p.min_in[sl as usize] + out_s1 + rev_extra;
         // Inserting on edge j = (c, e) of cost `base`.
         let eval = |c: u32, e: u32, base: i64, j: usize, best: &mut (i64, usize, bool)| {
             let (c, e) = (c as usize, e as usize);
             if kf - base < best.0 {
-                let f = into_s1[c] + from_sl[e] - base;
-                if f < best.0 {
-                    *best = (f, j, false);
+                let f = into_s1[c] - base;
+                if f + out_sl < best.0 {
+                    let f = f + from_sl[e];
+                    if f < best.0 {
+                        *best = (f, j, false);
+                    }
                 }
             }
             if kr - base < best.0 {
-                let r = into_sl[c] + from_s1[e] - base + rev_extra;
-                if r < best.0 {
-                    *best = (r, j, true);
+                let r = into_sl[c] - base + rev_extra;
+                if r + out_s1 < best.0 {
+                    let r = r + from_s1[e];
+                    if r < best.0 {
+                        *best = (r, j, true);
+                    }
                 }
             }
         };
