@@ -443,6 +443,37 @@ impl LocalSearch {
         self.rev[hi] - self.rev[lo]
     }
 
+    /// The 2-opt move on tour edges `k` and `j`, each given as (position, tail, head, cost):
+    /// reversing `t[lo+1..=hi]` for `lo < hi` the two positions; kept in `best` as
+    /// `(delta, lo, hi)` when it improves on it.
+    #[inline(always)]
+    fn two_opt_try(
+        &self,
+        p: &Problem,
+        (k, tk, tk1, ek): (usize, u32, u32, i64),
+        (j, a, b, ej): (usize, u32, u32, i64),
+        best: &mut (i64, usize, usize),
+    ) {
+        let (lo, hi) = if j < k { (j, k) } else { (k, j) };
+        if hi < lo + 2 {
+            return;
+        }
+        let (a, b, c, e) = if j < k {
+            (a, b, tk, tk1)
+        } else {
+            (tk, tk1, a, b)
+        };
+        let delta = self.rev_extra(lo + 1, hi) - ej - ek;
+        // The new arcs a → c and b → e cost at least the cheapest arcs out of a and b.
+        if delta + p.min_out[a as usize] + p.min_out[b as usize] >= best.0 {
+            return;
+        }
+        let delta = delta + p.d(a, c) + p.d(b, e);
+        if delta < best.0 {
+            *best = (delta, lo, hi);
+        }
+    }
+
     /// Best 2-opt move between edge `k` = (t[k], t[k+1]) and another edge.
     /// With neighbour lists, `x` is the vertex of the dirty set (`t[k]` if
     /// `x_first`, else `t[k+1]`) and only moves creating an edge between `x`
@@ -450,31 +481,12 @@ impl LocalSearch {
     fn two_opt_edge(&mut self, p: &Problem, t: &mut [u32], k: usize, x_first: bool) -> Option<i64> {
         let m = t.len();
         let mut best = (0i64, usize::MAX, usize::MAX);
-        let (tk, tk1, ek) = (t[k], t[wrap(k + 1, m)], self.edge[k]);
-        // The move on edges lo < hi reverses t[lo+1..=hi]; edge j = (a, b) of cost `ej`.
-        let consider = |j: usize, a: u32, b: u32, ej: i64, best: &mut (i64, usize, usize)| {
-            let (lo, hi) = if j < k { (j, k) } else { (k, j) };
-            if hi < lo + 2 {
-                return;
-            }
-            let (a, b, c, e) = if j < k {
-                (a, b, tk, tk1)
-            } else {
-                (tk, tk1, a, b)
-            };
-            let delta = self.rev_extra(lo + 1, hi) - ej - ek;
-            // The new arcs a → c and b → e cost at least the cheapest arcs out of a and b.
-            if delta + p.min_out[a as usize] + p.min_out[b as usize] >= best.0 {
-                return;
-            }
-            let delta = delta + p.d(a, c) + p.d(b, e);
-            if delta < best.0 {
-                *best = (delta, lo, hi);
-            }
-        };
+        let (tk, tk1) = (t[k], t[wrap(k + 1, m)]);
+        let edge_k = (k, tk, tk1, self.edge[k]);
         if self.nn + 1 >= m {
             for j in 0..m {
-                consider(j, t[j], t[wrap(j + 1, m)], self.edge[j], &mut best);
+                let edge_j = (j, t[j], t[wrap(j + 1, m)], self.edge[j]);
+                self.two_opt_try(p, edge_k, edge_j, &mut best);
             }
         } else {
             let x = if x_first { tk } else { tk1 };
@@ -483,11 +495,12 @@ impl LocalSearch {
                 let q = l.pos as usize;
                 // x = t[k]: edge pair (k, q) creates (x, t[q]);
                 // x = t[k+1]: edge pair (k, q-1) creates (x, t[q]).
-                if x_first {
-                    consider(q, l.vert, l.succ, l.eout, &mut best);
+                let edge_j = if x_first {
+                    (q, l.vert, l.succ, l.eout)
                 } else {
-                    consider(wrap(q + m - 1, m), l.pred, l.vert, l.ein, &mut best);
-                }
+                    (wrap(q + m - 1, m), l.pred, l.vert, l.ein)
+                };
+                self.two_opt_try(p, edge_k, edge_j, &mut best);
             }
         }
         if best.1 == usize::MAX {
