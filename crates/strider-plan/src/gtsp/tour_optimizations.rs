@@ -17,9 +17,11 @@
 //!   3. *or-opt*: move the segments of 2 and 3 sets that start or end at
 //!      `X` elsewhere, forward or reversed.
 //!
-//!   All gains are exact for asymmetric costs: segment reversal costs are
-//!   read from prefix sums of the forward and backward arc costs along the
-//!   tour. Endpoints of changed edges become dirty again.
+//!   All gains are exact for asymmetric costs: what reversing a segment adds
+//!   is read from a prefix sum of backward minus forward arc costs along the
+//!   tour. A candidate that a lower bound rules out (each vertex's cheapest
+//!   arcs to and from other sets, [`Problem::min_in`]) is not read, which
+//!   changes no choice. Endpoints of changed edges become dirty again.
 //!
 //! The two are alternated until cluster optimisation finds nothing.
 
@@ -520,13 +522,13 @@ impl LocalSearch {
         let sl = at(start + len - 1);
         let prev = at(start + m - 1);
         let next = at(start + len);
-        let end = start + len - 1;
+        let last = start + len - 1;
         let remove_gain =
-            self.edge[wrap(start + m - 1, m)] + self.edge[wrap(end, m)] - p.d(prev, next);
-        let rev_extra = if end < m {
-            self.rev_extra(start, end)
+            self.edge[wrap(start + m - 1, m)] + self.edge[wrap(last, m)] - p.d(prev, next);
+        let rev_extra = if last < m {
+            self.rev_extra(start, last)
         } else {
-            self.rev[m] - self.rev[start] + self.rev[end - m]
+            self.rev[m] - self.rev[start] + self.rev[last - m]
         };
         let mut best = (remove_gain, usize::MAX, false);
         // The arcs into and out of the segment's ends as rows and columns: four of the five
