@@ -165,6 +165,9 @@ fn wrap(x: usize, m: usize) -> usize {
     if x >= m { x - m } else { x }
 }
 
+/// An or-opt candidate: (insertion cost, position q, the edge is q − 1 rather than q, reversed).
+type Best = (i64, usize, bool, bool);
+
 /// Queue pops between two looks at the clock.
 const CLOCK_EVERY: usize = 256;
 
@@ -530,7 +533,7 @@ impl LocalSearch {
         } else {
             self.rev[m] - self.rev[start] + self.rev[last - m]
         };
-        let mut best = (remove_gain, usize::MAX, false);
+        let mut best: Best = (remove_gain, usize::MAX, false, false);
         // The arcs into and out of the segment's ends as rows and columns: four of the five
         // costs of a candidate edge come from these short slices instead of scattered rows.
         let (into_s1, into_sl) = (p.col(s1), p.col(sl));
@@ -541,15 +544,16 @@ impl LocalSearch {
         let (out_s1, out_sl) = (p.min_out[s1 as usize], p.min_out[sl as usize]);
         let kf = p.min_in[s1 as usize] + out_sl;
         let kr = p.min_in[sl as usize] + out_s1 + rev_extra;
-        // Inserting on edge j = (c, e) of cost `base`.
-        let eval = |c: u32, e: u32, base: i64, j: usize, best: &mut (i64, usize, bool)| {
+        // Inserting on edge (c, e) of cost `base`, edge q − 1 if `before` else q: the position
+        // is worked out only for the chosen one.
+        let eval = |c: u32, e: u32, base: i64, q: usize, before: bool, best: &mut Best| {
             let (c, e) = (c as usize, e as usize);
             if kf - base < best.0 {
                 let f = into_s1[c] - base;
                 if f + out_sl < best.0 {
                     let f = f + from_sl[e];
                     if f < best.0 {
-                        *best = (f, j, false);
+                        *best = (f, q, before, false);
                     }
                 }
             }
@@ -558,7 +562,7 @@ impl LocalSearch {
                 if r + out_s1 < best.0 {
                     let r = r + from_s1[e];
                     if r < best.0 {
-                        *best = (r, j, true);
+                        *best = (r, q, before, true);
                     }
                 }
             }
@@ -567,7 +571,7 @@ impl LocalSearch {
             // Candidate edges (t[j], t[j+1]) of the rest: j from start+len to start+m-2.
             for off in len..m - 1 {
                 let j = wrap(start + off, m);
-                eval(t[j], t[wrap(j + 1, m)], self.edge[j], j, &mut best);
+                eval(t[j], t[wrap(j + 1, m)], self.edge[j], j, false, &mut best);
             }
         } else {
             for end in [s1, sl] {
@@ -578,10 +582,11 @@ impl LocalSearch {
                     // start; edge q − 1 = (pred(y), y) is at offset off − 1, edge q at off.
                     let off = wrap(q + m - start, m);
                     if off > len {
-                        eval(l.pred, l.vert, l.ein, wrap(q + m - 1, m), &mut best);
+                        eval(l.pred, l.vert, l.ein, q, true, &mut best);
                     }
-                    if off >= len && off < m - 1 {
-                        eval(l.vert, l.succ, l.eout, q, &mut best);
+                    // len <= off < m − 1
+                    if off.wrapping_sub(len) < m - 1 - len {
+                        eval(l.vert, l.succ, l.eout, q, false, &mut best);
                     }
                 }
             }
@@ -589,7 +594,8 @@ impl LocalSearch {
         if best.1 == usize::MAX {
             return None;
         }
-        let (ins, j, rev) = best;
+        let (ins, q, before, rev) = best;
+        let j = if before { wrap(q + m - 1, m) } else { q };
         let delta = ins - remove_gain;
         // Build the new tour: rest from next ... up to t[j], segment, rest after.
         self.scratch.clear();
