@@ -544,10 +544,15 @@ impl LocalSearch {
         let (out_s1, out_sl) = (p.min_out[s1 as usize], p.min_out[sl as usize]);
         let kf = p.min_in[s1 as usize] + out_sl;
         let kr = p.min_in[sl as usize] + out_s1 + rev_extra;
+        let k_least = kf.min(kr);
         // Inserting on edge (c, e) of cost `base`, edge q − 1 if `before` else q: the position
         // is worked out only for the chosen one.
         let eval = |c: u32, e: u32, base: i64, q: usize, before: bool, best: &mut Best| {
             let (c, e) = (c as usize, e as usize);
+            // Most edges leave room for neither orientation.
+            if k_least - base >= best.0 {
+                return;
+            }
             if kf - base < best.0 {
                 let f = into_s1[c] - base;
                 if f + out_sl < best.0 {
