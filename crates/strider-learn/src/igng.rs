@@ -496,12 +496,7 @@ impl Igng {
                 for (xi, &v) in x.iter_mut().zip(row(r)) {
                     *xi = v.into();
                 }
-                match self.adapt_valid(&x) {
-                    AdaptOutcome::Created(_) => report.created += 1,
-                    AdaptOutcome::Blacklisted => report.blacklisted += 1,
-                    AdaptOutcome::Adapted(_) => {}
-                }
-                report.steps += 1;
+                self.counted_step(&x, &mut report);
             }
         }
         report.removed = self.removed - removed_before;
@@ -550,17 +545,22 @@ impl Igng {
                 for (xi, &v) in x.iter_mut().zip(v) {
                     *xi = v.into();
                 }
-                match self.adapt_valid(&x) {
-                    AdaptOutcome::Created(_) => report.created += 1,
-                    AdaptOutcome::Blacklisted => report.blacklisted += 1,
-                    AdaptOutcome::Adapted(_) => {}
-                }
-                report.steps += 1;
+                self.counted_step(&x, &mut report);
             }
         }
         self.rejected += report.rejected_rows as u64;
         report.removed = self.removed - removed_before;
         report
+    }
+
+    /// One training step on a validated row, counted in `report`.
+    fn counted_step(&mut self, x: &[f64], report: &mut TrainReport) {
+        match self.adapt_valid(x) {
+            AdaptOutcome::Created(_) => report.created += 1,
+            AdaptOutcome::Blacklisted => report.blacklisted += 1,
+            AdaptOutcome::Adapted(_) => {}
+        }
+        report.steps += 1;
     }
 
     /// One step of Alg. 11 for measurement `x`. Errors (and counts) non-finite measurements.
