@@ -349,6 +349,10 @@ pub struct SolveArgs {
     /// Effort preset: fast, default or slow.
     #[arg(long, default_value = "default")]
     pub mode: String,
+    /// Stop as soon as a tour costing at most this is found (e.g. a known optimum; GLNS calls
+    /// it the budget). Until then the search is the one without a target.
+    #[arg(long, allow_negative_numbers = true)]
+    pub target: Option<i64>,
     /// Print exactly one JSON object {"cost", "tour", "time_s"}.
     #[arg(long)]
     pub json: bool,
@@ -376,6 +380,10 @@ pub struct GtspBenchArgs {
     /// Only instances with at most this many sets.
     #[arg(long, default_value_t = usize::MAX)]
     pub max_sets: usize,
+    /// Stop each run as soon as it finds a tour at the instance's best-known value (its
+    /// `--target`); a run that never reaches it runs its whole search.
+    #[arg(long)]
+    pub stop_at_best_known: bool,
     /// Also write per-instance results and the summary as JSON to this file.
     #[arg(long)]
     pub json: Option<PathBuf>,

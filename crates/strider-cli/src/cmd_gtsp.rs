@@ -19,13 +19,14 @@ fn parse_mode(s: &str) -> Result<Mode> {
     gtsp::parse_mode(s).map_err(|e| anyhow::anyhow!("--mode: {e}"))
 }
 
-fn params(time_limit: f64, seed: u64, mode: Mode) -> Result<SolverParams> {
+fn params(time_limit: f64, seed: u64, mode: Mode, target: Option<i64>) -> Result<SolverParams> {
     check_time_limit(time_limit)
         .map_err(|e| anyhow::anyhow!("--time-limit {}: {e}", show(time_limit)))?;
     Ok(SolverParams {
         mode,
         time_limit_s: time_limit,
         seed,
+        target_cost: target,
         ..SolverParams::default()
     })
 }
@@ -40,12 +41,13 @@ fn solve_checked(inst: &Instance, p: &SolverParams, path: &Path) -> Result<Solut
 
 /// Runs `strider gtsp solve`.
 pub fn solve(a: &SolveArgs) -> Result<()> {
-    solve_file(&a.file, a.time_limit, a.seed, parse_mode(&a.mode)?, a.json)
+    let p = params(a.time_limit, a.seed, parse_mode(&a.mode)?, a.target)?;
+    solve_file(&a.file, &p, a.json)
 }
 
-fn solve_file(file: &Path, time_limit: f64, seed: u64, mode: Mode, as_json: bool) -> Result<()> {
+fn solve_file(file: &Path, p: &SolverParams, as_json: bool) -> Result<()> {
     let inst = read_instance(file)?;
-    let sol = solve_checked(&inst, &params(time_limit, seed, mode)?, file)?;
+    let sol = solve_checked(&inst, p, file)?;
     // Vertex ids as in the file (1-based).
     let tour: Vec<usize> = sol.tour.iter().map(|v| v + 1).collect();
     if as_json {
@@ -153,6 +155,8 @@ struct BenchOptions {
     pub min_sets: usize,
     /// Only instances with at most this many sets.
     pub max_sets: usize,
+    /// Stop each run at the instance's best-known value.
+    pub stop_at_best_known: bool,
 }
 
 /// Runs `strider gtsp bench`.
@@ -164,6 +168,7 @@ pub fn bench(a: &GtspBenchArgs) -> Result<()> {
         mode: parse_mode(&a.mode)?,
         min_sets: a.min_sets,
         max_sets: a.max_sets,
+        stop_at_best_known: a.stop_at_best_known,
     };
     bench_dir(&a.dir, &o, a.json.as_deref())
 }
@@ -196,7 +201,12 @@ fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
         for k in 0..o.runs {
             let sol = solve_checked(
                 &inst,
-                &params(o.time_limit, o.seed.wrapping_add(k as u64), o.mode)?,
+                &params(
+                    o.time_limit,
+                    o.seed.wrapping_add(k as u64),
+                    o.mode,
+                    o.stop_at_best_known.then_some(r.best_known),
+                )?,
                 &path,
             )?;
             run_gaps.push(100.0 * (sol.cost - r.best_known) as f64 / r.best_known as f64);
@@ -233,6 +243,7 @@ fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
         let doc = json!({
             "dir": dir.display().to_string(),
             "time_limit_s": o.time_limit, "runs": o.runs, "seed": o.seed,
+            "stop_at_best_known": o.stop_at_best_known,
             "instances": rows,
             "summary": {"instances": n, "mean_gap_pct": mean, "max_gap_pct": max, "total_s": total_s},
         });
@@ -272,6 +283,7 @@ mod tests {
             mode: Mode::Fast,
             min_sets,
             max_sets,
+            stop_at_best_known: false,
         }
     }
 
@@ -300,6 +312,27 @@ mod tests {
     }
 
     #[test]
+    fn the_bench_stops_at_the_best_known_value_when_asked() {
+        // The vertices (0, 0) and (1, 1): a tour of 2 (rounded distances), the optimum.
+        let dir = bench_folder("target", "2");
+        let json_out = dir.join("out.json");
+        let o = BenchOptions {
+            time_limit: 10.0,
+            mode: Mode::Default,
+            stop_at_best_known: true,
+            ..options(1, 1, 0, usize::MAX)
+        };
+        bench_dir(&dir, &o, Some(&json_out)).unwrap();
+        let doc: serde_json::Value =
+            serde_json::from_str(&fs::read_to_string(&json_out).unwrap()).unwrap();
+        assert_eq!(doc["stop_at_best_known"], true);
+        assert_eq!(doc["instances"][0]["best_cost"], 2);
+        let _ = fs::remove_dir_all(dir);
+        let p = params(1.0, 1, Mode::Default, Some(7)).unwrap();
+        assert_eq!(p.target_cost, Some(7));
+    }
+
+    #[test]
     fn a_best_known_value_that_is_not_positive_is_refused() {
         let dir = bench_folder("best0", "0");
         let e = bench_err(&dir, &options(1, 1, 0, usize::MAX));
@@ -318,7 +351,7 @@ mod tests {
             (f64::NAN, "NaN"),
             (1e300, "1e300"),
         ] {
-            let e = params(t, 1, Mode::Fast).unwrap_err().to_string();
+            let e = params(t, 1, Mode::Fast, None).unwrap_err().to_string();
             assert_eq!(
                 e,
                 format!(

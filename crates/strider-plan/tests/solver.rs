@@ -450,3 +450,46 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// A target cost ends the search where the unbounded search first reached it: with the
+    /// unbounded search's cost as the target, the same tour after exactly the iterations it
+    /// took to find it; with a target below that cost, the unbounded search itself; with one
+    /// above every tour, the first local optimum.
+    #[test]
+    fn a_target_cost_stops_the_search_where_it_is_first_met(
+        seed in 0u64..1000,
+        n in 24usize..60,
+        m in 8usize..20,
+        kind in 0u8..3,
+        open in proptest::bool::ANY,
+    ) {
+        let inst = random_instance(seed, n, m, kind);
+        let base = SolverParams {
+            open: open.then_some(seed as usize % n),
+            max_trials: Some(3),
+            ..heuristic(600, seed)
+        };
+        let free = solve(&inst, &base).unwrap();
+        check(&inst, &free, open);
+        let at = |target: i64| {
+            solve(&inst, &SolverParams { target_cost: Some(target), ..base.clone() }).unwrap()
+        };
+        let met = at(free.cost);
+        check(&inst, &met, open);
+        prop_assert_eq!(&met.tour, &free.tour);
+        prop_assert_eq!(met.iterations, free.best_iteration);
+        prop_assert_eq!(met.best_iteration, free.best_iteration);
+        prop_assert!(met.trials <= free.trials);
+        let below = at(free.cost - 1);
+        prop_assert_eq!(&below.tour, &free.tour);
+        prop_assert_eq!(below.iterations, free.iterations);
+        prop_assert_eq!(below.trials, free.trials);
+        let above = at(i64::MAX);
+        check(&inst, &above, open);
+        prop_assert_eq!(above.iterations, 0);
+        prop_assert_eq!(above.trials, 1);
+    }
+}

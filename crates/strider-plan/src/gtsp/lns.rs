@@ -194,6 +194,11 @@ impl<'a> Search<'a> {
         self.start.elapsed().as_secs_f64() >= self.time_limit_s
     }
 
+    /// Whether the best tour costs at most the target (never without one).
+    fn target_met(&self) -> bool {
+        matches!((self.settings.target_cost, &self.best), (Some(t), Some((_, c))) if *c <= t)
+    }
+
     /// The tour a trial starts from: the warm start, on odd trials the best
     /// tour so far, else a random construction.
     fn starting_tour(&mut self, trial: usize, warm: Option<Vec<u32>>) -> Vec<u32> {
@@ -228,15 +233,15 @@ impl<'a> Search<'a> {
     }
 
     /// One trial from `tour`: local search, then the iterations; a `restart` from the best
-    /// tour starts cooler (`restart_temp`). False when the instance is too small to iterate on
-    /// (the search ends).
+    /// tour starts cooler (`restart_temp`). False when the search ends: the instance is too
+    /// small to iterate on, or the best tour meets the target cost.
     fn run_trial(&mut self, mut tour: Vec<u32>, restart: bool) -> bool {
         let (p, settings) = (self.p, self.settings);
         let c0 = p.tour_cost(&tour);
         let cost = self.ls.run(p, &mut tour, c0, None, i64::MAX);
         debug_assert_eq!(cost, p.tour_cost(&tour));
         self.offer_best(&tour, cost);
-        if p.m < 4 {
+        if p.m < 4 || self.target_met() {
             return false;
         }
         let mean_edge = (cost as f64 / p.m as f64).max(1.0);
@@ -271,6 +276,9 @@ impl<'a> Search<'a> {
                 self.offer_best(&trial.cur, c);
             }
             self.learn_weights(&draw, outcome);
+            if self.target_met() {
+                return false;
+            }
         }
         true
     }

@@ -47,6 +47,11 @@ pub struct SolverParams {
     pub stall_trials: Option<usize>,
     /// Use the exact Held–Karp solver when the instance is small enough.
     pub use_exact: bool,
+    /// Stop as soon as a tour costing at most this much is found (GLNS's "budget"), e.g. a
+    /// known optimum or best-known value. Up to that moment the search is the same as without
+    /// a target, so it returns the tour the unbounded search held then.
+    #[serde(default)]
+    pub target_cost: Option<i64>,
 }
 
 impl Default for SolverParams {
@@ -63,6 +68,7 @@ impl Default for SolverParams {
             stall_iterations: None,
             stall_trials: None,
             use_exact: true,
+            target_cost: None,
         }
     }
 }
@@ -112,6 +118,8 @@ pub(crate) struct Settings {
     pub ls_nn: usize,
     /// Neighbour-list length of insertion (0 = all positions).
     pub insert_nn: usize,
+    /// Cost at or below which the search ends ([`SolverParams::target_cost`]).
+    pub target_cost: Option<i64>,
 }
 
 impl Settings {
@@ -158,6 +166,7 @@ impl Settings {
             insert_nn: 10,
             iterations,
             stall,
+            target_cost: params.target_cost,
             max_remove,
         }
     }
