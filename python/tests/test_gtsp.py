@@ -58,3 +58,19 @@ def test_bad_instances_are_value_errors(tmp_path):
     bad.write_text("NAME: x\nTYPE: GTSP\nDIMENSION: two\nEOF\n")
     with pytest.raises(strider.StriderError, match="bad.gtsp"):
         strider.gtsp.read(bad)
+
+
+def test_a_target_cost_is_passed_as_the_command_passes_it(tmp_path, strider_cli):
+    f = gtsp_file(tmp_path / "py96.gtsp", n=96, sets=30, seed=4)
+    inst = strider.gtsp.read(f)
+    free = strider.gtsp.solve(inst, seed=3, time_limit=60)
+    target = free.cost + 50
+    sol = strider.gtsp.solve(inst, seed=3, time_limit=60, target_cost=target)
+    cli = json.loads(strider_cli("gtsp", "solve", f, "--seed", 3, "--time-limit", 60,
+                                 "--target", target, "--json"))
+    assert sol.cost == cli["cost"] <= target
+    assert [v + 1 for v in sol.tour] == cli["tour"]
+    m = strider.gtsp.solve(inst.matrix(), inst.sets, seed=3, time_limit=60, target_cost=target)
+    assert (m.cost, m.tour) == (sol.cost, sol.tour)
+    with pytest.raises(strider.StriderError, match="target_cost"):
+        strider.gtsp.solve(inst, target_cost=1.5)

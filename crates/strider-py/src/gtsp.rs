@@ -87,7 +87,12 @@ pub fn read(py: Python<'_>, path: PathBuf) -> PyResult<Instance> {
     Ok(Instance { inner })
 }
 
-fn solver_params(seed: u64, time_limit: f64, mode: &str) -> PyResult<SolverParams> {
+fn solver_params(
+    seed: u64,
+    time_limit: f64,
+    mode: &str,
+    target_cost: Option<i64>,
+) -> PyResult<SolverParams> {
     if !(time_limit.is_finite() && time_limit > 0.0 && time_limit <= 604_800.0) {
         return Err(msg(format!(
             "time_limit {time_limit}: must be a finite number of seconds > 0 and ≤ 604800 (one week)"
@@ -97,6 +102,7 @@ fn solver_params(seed: u64, time_limit: f64, mode: &str) -> PyResult<SolverParam
         mode: parse_mode(mode).map_err(to_py)?,
         time_limit_s: time_limit,
         seed,
+        target_cost,
         ..SolverParams::default()
     })
 }
@@ -115,20 +121,24 @@ fn solve_inner(py: Python<'_>, inst: &RustInstance, p: &SolverParams) -> PyResul
 
 /// Solves an instance read by `read`.
 #[pyfunction]
-#[pyo3(signature = (instance, seed = 1, time_limit = 60.0, mode = "default"))]
+#[pyo3(signature = (instance, seed = 1, time_limit = 60.0, mode = "default", target_cost = None))]
 pub fn solve(
     py: Python<'_>,
     instance: &Instance,
     seed: u64,
     time_limit: f64,
     mode: &str,
+    target_cost: Option<i64>,
 ) -> PyResult<Solution> {
-    solve_inner(py, &instance.inner, &solver_params(seed, time_limit, mode)?)
+    let p = solver_params(seed, time_limit, mode, target_cost)?;
+    solve_inner(py, &instance.inner, &p)
 }
 
 /// Solves the instance of an n × n integer cost matrix and vertex sets (0-based).
 #[pyfunction]
-#[pyo3(signature = (matrix, sets, seed = 1, time_limit = 60.0, mode = "default", name = "matrix"))]
+#[pyo3(signature = (matrix, sets, seed = 1, time_limit = 60.0, mode = "default", name = "matrix", target_cost = None))]
+// One argument per Python keyword argument.
+#[allow(clippy::too_many_arguments)]
 pub fn solve_matrix(
     py: Python<'_>,
     matrix: PyReadonlyArray2<'_, i64>,
@@ -137,8 +147,9 @@ pub fn solve_matrix(
     time_limit: f64,
     mode: &str,
     name: &str,
+    target_cost: Option<i64>,
 ) -> PyResult<Solution> {
-    let p = solver_params(seed, time_limit, mode)?;
+    let p = solver_params(seed, time_limit, mode, target_cost)?;
     let m = matrix.as_array();
     let (n, cols) = m.dim();
     if n != cols || n == 0 {
