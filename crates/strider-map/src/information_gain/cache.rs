@@ -410,11 +410,7 @@ fn update(
     h: f64,
     d: f64,
 ) -> usize {
-    let old = OldView {
-        icount: old_icount,
-        changed: &changes.cells,
-        changed_z: &changes.z,
-    };
+    let old = OldView::prepare(view, old_icount, &changes.cells, &changes.z);
     let words = disc.entries.len().div_ceil(64);
     let mut work: Vec<(usize, Cell, Vec<u64>, i64)> = changes
         .deltas

@@ -7,13 +7,76 @@ use super::sight::Sight;
 use super::view::{GainView, Scratch};
 use strider_core::Cell;
 
-/// The previous state of a [`GainView`] during an incremental update: its I_cell values and
-/// the cells that changed since, with their (new, old) elevations (NaN for unknown).
+/// The previous state of a [`GainView`] during an incremental update: its I_cell values, and
+/// what changed since, prepared once for every candidate ([`OldView::prepare`]).
 pub(super) struct OldView<'a> {
     pub(super) icount: &'a [u8],
-    pub(super) changed: &'a [Cell],
-    pub(super) changed_z: &'a [(f32, f32)],
+    /// The changed cells known in either view, with their (new, old) elevations (NaN for
+    /// unknown), highest first (by the higher of the two): a candidate reads them only down to
+    /// its own ground, below which none can block.
+    pub(super) by_height: Vec<(Cell, f32, f32)>,
+    /// The cells whose I_cell differs between the views: the changed cells and their
+    /// 8-neighbours (I_cell depends on nothing else) where the values differ, once each.
+    pub(super) icell_changed: Vec<Cell>,
 }
+
+impl<'a> OldView<'a> {
+    /// The old view `icount` of `view`, given the cells that changed and their (new, old)
+    /// elevations.
+    pub(super) fn prepare(
+        view: &GainView,
+        icount: &'a [u8],
+        changed: &[Cell],
+        changed_z: &[(f32, f32)],
+    ) -> Self {
+        let mut by_height: Vec<(Cell, f32, f32)> = changed
+            .iter()
+            .zip(changed_z)
+            .filter(|(_, (zn, zo))| !(zn.is_nan() && zo.is_nan()))
+            .map(|(&x, &(zn, zo))| (x, zn, zo))
+            .collect();
+        // Stable, so equal heights keep the changes' order.
+        by_height.sort_by(|a, b| higher(b.1, b.2).total_cmp(&higher(a.1, a.2)));
+        let mut idx: Vec<usize> = Vec::new();
+        for &x in changed {
+            for (ox, oy) in NEIGHBOURHOOD {
+                let t = Cell::new(x.i + ox, x.j + oy);
+                if let Some(k) = view.rect.index(t)
+                    && view.icount[k] != icount[k]
+                {
+                    idx.push(k);
+                }
+            }
+        }
+        idx.sort_unstable();
+        idx.dedup();
+        let icell_changed = idx.into_iter().map(|k| view.rect.cell(k)).collect();
+        Self {
+            icount,
+            by_height,
+            icell_changed,
+        }
+    }
+}
+
+/// The higher of a changed cell's two elevations, NaN ones ignored.
+#[inline]
+fn higher(zn: f32, zo: f32) -> f32 {
+    zn.max(zo)
+}
+
+/// A cell and its 8-neighbours, as offsets.
+const NEIGHBOURHOOD: [(i32, i32); 9] = [
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+    (-1, 0),
+    (0, 0),
+    (1, 0),
+    (-1, 1),
+    (0, 1),
+    (1, 1),
+];
 
 /// A changed cell that rises above the candidate in the old view or the new one, so that it
 /// may block sight lines in either.
@@ -90,16 +153,20 @@ impl GainView {
             reach: disc.reach as i32 + 1,
         };
         let mut delta = 0i64;
-        // (b) first: sight lines that may have changed are cast again.
-        for (&x, &(zn, zo)) in old.changed.iter().zip(old.changed_z) {
+        // (b) first: sight lines that may have changed are cast again. Only cells above the
+        // candidate's ground can block; the rest of the list is lower still.
+        for &(x, zn, zo) in &old.by_height {
+            if update.sight.blocking(higher(zn, zo)).is_none() {
+                break;
+            }
             let Some(b) = update.blocker(x, zn, zo) else {
                 continue;
             };
             update.for_each_shadowed(&b, |k| delta += update.recast(&b, k, scratch, vis));
         }
         // (a) the rest: I_cell changed, the sight line did not.
-        for &x in old.changed {
-            delta += update.follow_icell(x, scratch, vis);
+        for &t in &old.icell_changed {
+            delta += update.follow_icell(t, scratch, vis);
         }
         delta
     }
@@ -206,42 +273,27 @@ impl Delta<'_> {
         gained - lost
     }
 
-    /// The change of the terms of the targets around the changed cell `x` whose I_cell
-    /// changed and whose sight line was not cast again; brings their bits up to date.
-    fn follow_icell(&self, x: Cell, scratch: &mut Scratch, vis: &mut [u64]) -> i64 {
-        let Some((dx, dy)) = self.offset(x) else {
+    /// The change of the term of target `t`, whose I_cell changed, unless its sight line was
+    /// cast again; brings its bit up to date.
+    fn follow_icell(&self, t: Cell, scratch: &mut Scratch, vis: &mut [u64]) -> i64 {
+        let c = self.sight.cell();
+        let Some(k) = self.disc.entry_of(t.i - c.i, t.j - c.j) else {
             return 0;
         };
-        let mut delta = 0i64;
-        for oy in -1..=1 {
-            for ox in -1..=1 {
-                let Some(k) = self.disc.entry_of(dx + ox, dy + oy) else {
-                    continue;
-                };
-                if scratch.visit(k) {
-                    continue;
-                }
-                let e = self.disc.entries[k];
-                let t = self.sight.target(&e);
-                let Some(idx) = self.view.rect.index(t) else {
-                    continue;
-                };
-                let (g1, g0) = (self.view.icount[idx], self.old[idx]);
-                if g1 == g0 {
-                    continue;
-                }
-                let clear = if g0 > 0 {
-                    get_bit(vis, k)
-                } else {
-                    // Unknown again (not in practice): no stored bit to trust.
-                    self.view.clear(&self.sight, t)
-                };
-                if clear {
-                    delta += g1 as i64 - g0 as i64;
-                }
-                put_bit(vis, k, clear && g1 > 0);
-            }
+        if scratch.visit(k) {
+            return 0;
         }
-        delta
+        let Some(idx) = self.view.rect.index(t) else {
+            return 0;
+        };
+        let (g1, g0) = (self.view.icount[idx], self.old[idx]);
+        let clear = if g0 > 0 {
+            get_bit(vis, k)
+        } else {
+            // Unknown again (not in practice): no stored bit to trust.
+            self.view.clear(&self.sight, t)
+        };
+        put_bit(vis, k, clear && g1 > 0);
+        if clear { g1 as i64 - g0 as i64 } else { 0 }
     }
 }
