@@ -379,3 +379,65 @@ fn class_maps_kept_between_updates_equal_maps_computed_afresh() {
         assert_eq!(fresh.classification_counts().partial, 0);
     }
 }
+
+/// The cells of L (described, with a measured cost) in the order first measured.
+fn learning_set(m: &GaitCostModel, desc: &DescriptorField) -> Vec<Cell> {
+    m.measured_cells()
+        .iter()
+        .copied()
+        .filter(|&c| m.cell_cost(c).is_some() && desc.get(c).is_some())
+        .collect()
+}
+
+#[test]
+fn a_bounded_regressor_trains_on_the_newest_pairs_and_classes_still_count_all_of_l() {
+    const MAX: usize = 40;
+    let (map, desc) = world();
+    let params = CostModelParams {
+        max_learning_pairs: Some(MAX),
+        ..CostModelParams::default()
+    };
+    let mut m = GaitCostModel::new(GaitId(0), 9, params, 5).unwrap();
+    let mut slides = 0;
+    let mut before: Vec<Cell> = Vec::new();
+    // Batches of new cells across the three terrains, each cost far from what the regressor
+    // predicts there (so that it is novel and stored), an update after each: the window slides.
+    let batches = [
+        (0..9, 1.0),
+        (21..30, 5.0),
+        (41..50, 9.0),
+        (10..19, 6.0),
+        (31..39, 12.0),
+    ];
+    for (cols, cost) in batches {
+        for i in cols.step_by(3) {
+            for j in (4..H as i32 - 4).step_by(3) {
+                m.insert_measurement(Cell::new(i, j), cost, &desc).unwrap();
+            }
+        }
+        let u = m.update(&map, &desc).unwrap();
+        let l = learning_set(&m, &desc);
+        assert_eq!(m.learning_set_len(), l.len().min(MAX));
+        // The newest MAX pairs of L, each with its cell's cost as the target.
+        let mut trained = m.learning_cells().to_vec();
+        trained.sort();
+        let mut newest = l[l.len().saturating_sub(MAX)..].to_vec();
+        newest.sort();
+        assert_eq!(trained, newest);
+        for (i, &c) in m.learning_cells().iter().enumerate() {
+            assert_eq!(m.gp().y(i), m.cell_cost(c).unwrap().cost);
+        }
+        slides += usize::from(!before.is_empty() && trained != before);
+        before = trained;
+        // Eq. 24's counts are over all of L.
+        for class in &u.classes {
+            let in_l = l
+                .iter()
+                .filter(|&&c| m.learning_class(c) == Some(class.id))
+                .count();
+            assert_eq!(class.learning_cells, in_l, "class {:?}", class.id);
+        }
+        assert!(u.classes.iter().map(|c| c.learning_cells).sum::<usize>() > MAX);
+    }
+    assert_eq!(slides, 4, "the window slid {slides} times");
+}

@@ -373,7 +373,11 @@ mod tests {
     fn every_parameter_is_documented_once() {
         assert_eq!(
             keys::<TourParams>(),
-            doc_keys::<TourParams>(&["info_gain_spacing_m", "max_tour_sites"])
+            doc_keys::<TourParams>(&[
+                "info_gain_spacing_m",
+                "max_learning_pairs",
+                "max_tour_sites"
+            ])
         );
         assert_eq!(
             keys::<RbcmTable>(),

@@ -83,6 +83,9 @@ pub struct TourParams {
     /// Spacing of the Eq. 11 candidate lattice, m (unset: max(0.2 m, r_sensor/20)).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub info_gain_spacing_m: Option<f64>,
+    /// Learning pairs the regressor trains on, the newest measured (unset: all of L).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_learning_pairs: Option<usize>,
     /// Turn once on the spot at a reached spatial goal when the sensors do not see all around.
     pub look_around: bool,
     /// Keep the pursued goal first when the goal set changes before it is reached.
@@ -130,6 +133,7 @@ impl Default for TourParams {
             max_tour_sites: solver.max_sites,
             tour_window_margin_m: solver.window_margin_m,
             info_gain_spacing_m: None,
+            max_learning_pairs: None,
             look_around: false,
             commit_to_goal: true,
             stuck_windows_as_samples: true,
@@ -305,6 +309,12 @@ impl StrategyParams for TourParams {
         )
         .above(0.0, 100.0),
         ParamDoc::new(
+            "max_learning_pairs",
+            "",
+            "learning pairs the GP regressor trains on, the newest measured; unset: all, as Prágr22 (ours)",
+        )
+        .count(1, 1_000_000),
+        ParamDoc::new(
             "look_around",
             "",
             "turn once on the spot at a reached spatial goal (ours)",
@@ -353,6 +363,7 @@ impl TourParams {
         cm.igng.age_mature = self.igng_age_mature;
         cm.igng.age_max = self.igng_age_max;
         cm.igng.batch = self.igng_batch;
+        cm.max_learning_pairs = self.max_learning_pairs;
         MissionParams {
             map: robot.map.clone(),
             gaits: robot.gaits.clone(),

@@ -116,8 +116,9 @@ impl GaitCostModel {
     fn class_table(&mut self, desc: &DescriptorField) -> Vec<ClassInfo> {
         self.stats.sync(desc, &self.learn_class);
         let mut learning: HashMap<ClassId, usize> = HashMap::default();
-        for c in &self.learn_cells {
-            if let Some(TerrainCell::Class(t)) = self.store.index(*c).map(|k| self.learn_class[k]) {
+        // All of L, also the pairs a bounded regressor no longer trains on.
+        for c in self.learning_set(desc) {
+            if let Some(TerrainCell::Class(t)) = self.store.index(c).map(|k| self.learn_class[k]) {
                 *learning.entry(t).or_default() += 1;
             }
         }

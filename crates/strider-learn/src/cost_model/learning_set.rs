@@ -26,9 +26,10 @@ impl GaitCostModel {
     ) -> Result<(), CostModelError> {
         let mut new_targets: Vec<(Cell, f64)> = Vec::new();
         let mut added = NewPairs::default();
+        let first = self.first_trained(desc);
         for k in 0..self.measured.len() {
             let cell = self.measured[k];
-            if let Some(y) = self.sync_learning_pair(cell, desc, &mut added)? {
+            if let Some(y) = self.sync_learning_pair(cell, desc, k >= first, &mut added)? {
                 new_targets.push((cell, y));
             }
         }
@@ -50,13 +51,16 @@ impl GaitCostModel {
     /// GP training point. A pair whose descriptor is unchanged but whose target changed is not
     /// touched: its new target is returned for a batched
     /// [`Gp::set_ys`](crate::gp::Gp::set_ys).
+    ///
+    /// A cell outside the trained window (`trained` false) leaves the GP.
     fn sync_learning_pair(
         &mut self,
         cell: Cell,
         desc: &DescriptorField,
+        trained: bool,
         added: &mut NewPairs,
     ) -> Result<Option<f64>, CostModelError> {
-        let cost = self.costs.get(&cell).map(|k| k.cost);
+        let cost = self.costs.get(&cell).map(|k| k.cost).filter(|_| trained);
         let x = desc.get(cell);
         match (self.learn_index.get(&cell).copied(), cost, x) {
             (Some(i), Some(y), Some(x)) => {
@@ -84,5 +88,35 @@ impl GaitCostModel {
             (None, _, _) => {}
         }
         Ok(None)
+    }
+
+    /// The cells of L, the described cells with a measured cost, in the order first measured.
+    pub(super) fn learning_set<'a>(
+        &'a self,
+        desc: &'a DescriptorField,
+    ) -> impl Iterator<Item = Cell> + 'a {
+        self.measured
+            .iter()
+            .copied()
+            .filter(|c| self.costs.contains_key(c) && desc.get(*c).is_some())
+    }
+
+    /// The index into the measured cells from which L's pairs train the GP: 0 unless more
+    /// than [`CostModelParams::max_learning_pairs`](super::CostModelParams) are in L, else
+    /// where the newest that many begin.
+    fn first_trained(&self, desc: &DescriptorField) -> usize {
+        let Some(max) = self.params.max_learning_pairs else {
+            return 0;
+        };
+        let mut kept = 0;
+        for (k, c) in self.measured.iter().enumerate().rev() {
+            if self.costs.contains_key(c) && desc.get(*c).is_some() {
+                if kept == max {
+                    return k + 1;
+                }
+                kept += 1;
+            }
+        }
+        0
     }
 }

@@ -29,6 +29,11 @@ pub struct CostModelParams {
     pub dilate_steps: usize,
     /// n_dilate^size, half-width of the dilation window (Eq. 26).
     pub dilate_size: usize,
+    /// The most learning pairs the regressor R trains on: the newest ones (by when their cell
+    /// was first measured). `None`: all of L, as in Prágr22. The GP's memory grows with the
+    /// square of its training set, so a long mission needs a bound; the class counts of
+    /// Eq. 24 still count all of L.
+    pub max_learning_pairs: Option<usize>,
 }
 
 impl Default for CostModelParams {
@@ -63,6 +68,7 @@ impl CostModelParams {
             erode_steps: 2,
             dilate_steps: 3,
             dilate_size: 2,
+            max_learning_pairs: None,
         }
     }
 }
