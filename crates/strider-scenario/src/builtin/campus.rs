@@ -84,12 +84,22 @@ pub(super) fn generate(seed: u64) -> Result<Scenario, ScenarioError> {
 /// replan plans over the nearest ones (the courtyards keep every goal).
 const MAX_TOUR_SITES: i64 = 64;
 
-/// courtyard-large's parameters (Prágr22 Table 3, right column) with a bounded tour horizon.
+/// Learning pairs each gait's regressor trains on: a full exploration measures tens of
+/// thousands of cells, and an exact GP over all of them would not fit in memory (the
+/// courtyards stay far below this).
+const MAX_LEARNING_PAIRS: i64 = 2000;
+
+/// courtyard-large's parameters (Prágr22 Table 3, right column) with a bounded tour horizon
+/// and a bounded regressor.
 fn strategy_table() -> toml::Table {
     let mut t = courtyard::table3(true);
     t.insert(
         "max_tour_sites".to_string(),
         toml::Value::Integer(MAX_TOUR_SITES),
+    );
+    t.insert(
+        "max_learning_pairs".to_string(),
+        toml::Value::Integer(MAX_LEARNING_PAIRS),
     );
     t
 }
