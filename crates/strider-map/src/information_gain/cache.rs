@@ -8,6 +8,7 @@ use crate::map::ElevationMap;
 use crate::reachability::Reachability;
 use crate::rect::{self, WorldRect};
 use rayon::prelude::*;
+use std::collections::HashMap;
 use strider_core::{Cell, CellRect};
 
 /// Above disc size / this many changed cells within r_sensor + 1 of a cached candidate, its
@@ -58,8 +59,8 @@ struct Cached {
     /// Cached 9·I_model per view cell ([`NOT_CACHED`] = none).
     counts: Vec<u32>,
     /// Per cached view cell, the visibility of each disc target unknown at the last
-    /// evaluation (one bit per disc entry); empty when not cached or when no bit is set.
-    vis: Vec<Vec<u64>>,
+    /// evaluation (one bit per disc entry); absent when not cached or when no bit is set.
+    vis: VisBits,
     bounds: Option<WorldRect>,
 }
 
@@ -146,7 +147,7 @@ impl GainCache {
         self.last = (todo.len(), updated);
         for (&(k, _), (n, v)) in todo.iter().zip(fresh) {
             counts[k] = n;
-            vis[k] = v;
+            vis.put(k, v);
         }
         let counts = candidates
             .iter()
@@ -192,7 +193,7 @@ impl Cached {
                 self.view = Some(view);
                 self.revision = map.changes().revision();
                 self.counts = vec![NOT_CACHED; rect.len()];
-                self.vis = vec![Vec::new(); rect.len()];
+                self.vis = VisBits::default();
                 self.bounds = bounds.copied();
                 return None;
             }
@@ -218,13 +219,12 @@ impl Cached {
             return;
         };
         let mut counts = vec![NOT_CACHED; rect.len()];
-        let mut vis = vec![Vec::new(); rect.len()];
         for (k, c) in old.rect.cells().enumerate() {
             if let Some(nk) = rect.index(c) {
                 counts[nk] = self.counts[k];
-                vis[nk] = std::mem::take(&mut self.vis[k]);
             }
         }
+        let vis = std::mem::take(&mut self.vis).moved(old.rect, rect);
         let view = old.grown(rect, bounds, d);
         self.prev_icount = view.icount.clone();
         self.icount_dirty = None;
@@ -337,7 +337,7 @@ impl Cached {
             }
             if changed_mask[a] || near > max_changes || !is_candidate[a] {
                 self.counts[k] = NOT_CACHED;
-                self.vis[k] = Vec::new();
+                self.vis.take(k);
             } else {
                 deltas.push((k, c));
             }
@@ -377,6 +377,38 @@ fn evaluate(
         .collect()
 }
 
+/// The stored visibility bits of the cached candidates, by view index. Only candidates with a
+/// visible unknown target have any, a few along the frontier, so they are kept by index rather
+/// than in a slot per view cell (24 bytes per cell, 100 MB over `campus`).
+#[derive(Default)]
+struct VisBits(HashMap<usize, Vec<u64>>);
+
+impl VisBits {
+    /// Takes the bits of view index `k` (empty when none are stored).
+    fn take(&mut self, k: usize) -> Vec<u64> {
+        self.0.remove(&k).unwrap_or_default()
+    }
+
+    /// Stores the bits of view index `k` (nothing when `bits` is empty).
+    fn put(&mut self, k: usize, bits: Vec<u64>) {
+        if bits.is_empty() {
+            self.0.remove(&k);
+        } else {
+            self.0.insert(k, bits);
+        }
+    }
+
+    /// The same bits indexed in `to`, a rectangle that contains `from`.
+    fn moved(self, from: CellRect, to: CellRect) -> Self {
+        Self(
+            self.0
+                .into_iter()
+                .filter_map(|(k, bits)| to.index(from.cell(k)).map(|nk| (nk, bits)))
+                .collect(),
+        )
+    }
+}
+
 /// Visibility bits as stored: none at all when no target is visible, which is the case of
 /// every candidate without unknown cells in sight (most of an explored map), so that memory
 /// follows the frontier rather than the explored area.
@@ -404,7 +436,7 @@ fn update(
     view: &GainView,
     old_icount: &[u8],
     counts: &mut [u32],
-    vis: &mut [Vec<u64>],
+    vis: &mut VisBits,
     changes: &Changes,
     disc: &DiscTable,
     h: f64,
@@ -415,7 +447,7 @@ fn update(
     let mut work: Vec<(usize, Cell, Vec<u64>, i64)> = changes
         .deltas
         .iter()
-        .map(|&(k, c)| (k, c, expand(std::mem::take(&mut vis[k]), words), 0))
+        .map(|&(k, c)| (k, c, expand(vis.take(k), words), 0))
         .collect();
     work.par_iter_mut()
         .for_each_init(Scratch::default, |s, (_, c, bits, dn)| {
@@ -425,7 +457,7 @@ fn update(
         let n = counts[k] as i64 + dn;
         debug_assert!(n >= 0, "negative Eq. 11 count");
         counts[k] = n.max(0) as u32;
-        vis[k] = compact(bits);
+        vis.put(k, compact(bits));
     }
     changes.deltas.len()
 }
