@@ -45,6 +45,35 @@ pub fn expand(r: CellRect, n: u32) -> CellRect {
     )
 }
 
+/// `r` extended to cover `needed`: each side that `needed` passes moves out to `needed`'s
+/// edge plus `margin` cells; the other sides stay where they are (growing every side by the
+/// margin each time would inflate a rectangle that grows often without bound).
+pub fn grown_to_cover(r: CellRect, needed: CellRect, margin: u32) -> CellRect {
+    if r.is_empty() {
+        return expand(needed, margin);
+    }
+    if needed.is_empty() {
+        return r;
+    }
+    let m = margin as i32;
+    let (ri1, rj1) = max_corner(r);
+    let (ni1, nj1) = max_corner(needed);
+    let side = |mine: i32, theirs: i32, outward: i32| {
+        if (theirs as i64 - mine as i64) * outward as i64 > 0 {
+            theirs.saturating_add(outward * m)
+        } else {
+            mine
+        }
+    };
+    from_corners(
+        Cell::new(
+            side(r.min.i, needed.min.i, -1),
+            side(r.min.j, needed.min.j, -1),
+        ),
+        Cell::new(side(ri1, ni1, 1), side(rj1, nj1, 1)),
+    )
+}
+
 /// The rectangle from its lowest and highest cell (both inclusive).
 pub fn from_corners(lo: Cell, hi: Cell) -> CellRect {
     CellRect::new(
@@ -111,6 +140,37 @@ pub(crate) fn in_bounds(bounds: Option<&WorldRect>, c: Cell, d: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Growing to cover keeps the rectangle, covers what is needed, moves only the sides
+        /// that were passed, and stays within the needed hull plus the margin however often it
+        /// grows.
+        #[test]
+        fn grown_to_cover_moves_only_the_sides_passed(
+            steps in proptest::collection::vec((-30i32..30, -30i32..30, 1u32..20, 1u32..20), 1..40),
+            margin in 0u32..10,
+        ) {
+            let mut r = CellRect::new(Cell::new(0, 0), 5, 5);
+            let mut hull = r;
+            for (i, j, w, h) in steps {
+                let needed = CellRect::new(Cell::new(i, j), w, h);
+                let g = grown_to_cover(r, needed, margin);
+                prop_assert_eq!(intersection(g, r), Some(r));
+                prop_assert_eq!(intersection(g, needed), Some(needed));
+                let (ri1, rj1) = max_corner(r);
+                let (gi1, gj1) = max_corner(g);
+                let (ni1, nj1) = max_corner(needed);
+                prop_assert!(g.min.i == r.min.i || g.min.i == needed.min.i - margin as i32);
+                prop_assert!(g.min.j == r.min.j || g.min.j == needed.min.j - margin as i32);
+                prop_assert!(gi1 == ri1 || gi1 == ni1 + margin as i32);
+                prop_assert!(gj1 == rj1 || gj1 == nj1 + margin as i32);
+                hull = union(hull, needed);
+                r = g;
+                prop_assert_eq!(intersection(r, expand(hull, margin)), Some(r));
+            }
+        }
+    }
 
     #[test]
     fn union_intersection_expand() {

@@ -200,10 +200,10 @@ impl Cached {
         };
         if rect::intersection(view.rect, needed) != Some(needed) {
             // The known area outgrew the view: grow it with a margin (so that a slowly
-            // growing map grows it rarely) and carry the cache over. Every cached candidate's
-            // disc lies in the old view, outside which nothing was known; the new cells enter
-            // as changes below like any other.
-            let rect = rect::expand(rect::union(view.rect, needed), disc.reach);
+            // growing map grows it rarely) on the sides it outgrew, and carry the cache over.
+            // Every cached candidate's disc lies in the old view, outside which nothing was
+            // known; the new cells enter as changes below like any other.
+            let rect = rect::grown_to_cover(view.rect, needed, disc.reach);
             self.grow(rect, bounds, d);
         }
         let mut changes = self.take_changes(map, bounds, d, dz)?;
