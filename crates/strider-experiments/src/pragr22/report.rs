@@ -85,7 +85,8 @@ pub struct ModelReport {
     pub gait: String,
     /// Whether the model has a regressor yet.
     pub regressor: bool,
-    /// Learning pairs.
+    /// Learning pairs the regressor trains on (all of L unless `max_learning_pairs` bounds
+    /// them).
     pub learning_set: usize,
     /// Cells with a measured cost.
     pub measured_cells: usize,

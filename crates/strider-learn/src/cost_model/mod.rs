@@ -221,12 +221,13 @@ impl GaitCostModel {
         self.gp.len() >= self.params.n_min.max(1)
     }
 
-    /// |L|, the learning-set size.
+    /// The learning pairs the regressor trains on: |L|, or the newest
+    /// [`CostModelParams::max_learning_pairs`] of L when L holds more.
     pub fn learning_set_len(&self) -> usize {
         self.gp.len()
     }
 
-    /// Cells of the learning set, in training order.
+    /// Cells of the pairs the regressor trains on, in training order.
     pub fn learning_cells(&self) -> &[Cell] {
         &self.learn_cells
     }
