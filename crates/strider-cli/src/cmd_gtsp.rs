@@ -197,7 +197,7 @@ fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
         let path = dir.join(&r.file);
         let inst = read_instance(&path)?;
         let (mut best, mut time) = (i64::MAX, 0.0);
-        let (mut costs, mut run_gaps) = (Vec::new(), Vec::new());
+        let (mut costs, mut run_gaps, mut iterations) = (Vec::new(), Vec::new(), Vec::new());
         for k in 0..o.runs {
             let sol = solve_checked(
                 &inst,
@@ -213,6 +213,7 @@ fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
             best = best.min(sol.cost);
             time += sol.time_s;
             costs.push(sol.cost);
+            iterations.push(sol.iterations);
         }
         let mean_gap = stats::mean(&run_gaps).unwrap_or(f64::NAN);
         let max_gap = stats::max(&run_gaps).unwrap_or(f64::NEG_INFINITY);
@@ -232,6 +233,7 @@ fn bench_dir(dir: &Path, o: &BenchOptions, json_out: Option<&Path>) -> Result<()
         rows.push(json!({
             "instance": r.name, "sets": inst.sets.len(), "vertices": inst.n,
             "best_known": r.best_known, "costs": costs, "best_cost": best,
+            "iterations": iterations,
             "mean_gap_pct": mean_gap, "max_gap_pct": max_gap, "mean_time_s": time / o.runs as f64,
         }));
     }
@@ -311,25 +313,75 @@ mod tests {
         let _ = fs::remove_dir_all(dir);
     }
 
-    #[test]
-    fn the_bench_stops_at_the_best_known_value_when_asked() {
-        // The vertices (0, 0) and (1, 1): a tour of 2 (rounded distances), the optimum.
-        let dir = bench_folder("target", "2");
+    /// A folder with a 120-vertex, 30-set random Euclidean instance (large enough for the
+    /// heuristic) and a best-known table claiming `best_known`.
+    fn heuristic_folder(name: &str, best_known: i64) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("strider-gtsp-{name}-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let mut g = String::from(
+            "NAME: h\nTYPE: GTSP\nDIMENSION: 120\nGTSP_SETS: 30\nEDGE_WEIGHT_TYPE: EUC_2D\n\
+             NODE_COORD_SECTION\n",
+        );
+        let mut state = 12345u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) % 1000
+        };
+        for v in 1..=120 {
+            g.push_str(&format!("{v} {} {}\n", next(), next()));
+        }
+        g.push_str("GTSP_SET_SECTION\n");
+        for s in 0..30 {
+            let members: Vec<String> = (0..4).map(|k| (s * 4 + k + 1).to_string()).collect();
+            g.push_str(&format!("{} {} -1\n", s + 1, members.join(" ")));
+        }
+        g.push_str("EOF\n");
+        fs::write(dir.join("h.gtsp"), g).unwrap();
+        fs::write(
+            dir.join("best_known.csv"),
+            format!("instance,sets,vertices,best_known\nh,30,120,{best_known}\n"),
+        )
+        .unwrap();
+        dir
+    }
+
+    /// One bench run of the folder's instance: (best cost, iterations of the run).
+    fn bench_once(dir: &Path, stop_at_best_known: bool) -> (i64, u64) {
         let json_out = dir.join("out.json");
         let o = BenchOptions {
-            time_limit: 10.0,
+            time_limit: 600.0,
             mode: Mode::Default,
-            stop_at_best_known: true,
-            ..options(1, 1, 0, usize::MAX)
+            stop_at_best_known,
+            ..options(1, 3, 0, usize::MAX)
         };
-        bench_dir(&dir, &o, Some(&json_out)).unwrap();
+        bench_dir(dir, &o, Some(&json_out)).unwrap();
         let doc: serde_json::Value =
             serde_json::from_str(&fs::read_to_string(&json_out).unwrap()).unwrap();
-        assert_eq!(doc["stop_at_best_known"], true);
-        assert_eq!(doc["instances"][0]["best_cost"], 2);
+        assert_eq!(doc["stop_at_best_known"], stop_at_best_known);
+        let row = &doc["instances"][0];
+        (
+            row["best_cost"].as_i64().unwrap(),
+            row["iterations"][0].as_u64().unwrap(),
+        )
+    }
+
+    #[test]
+    fn the_bench_stops_at_the_best_known_value_when_asked() {
+        // The whole search first, then one told that its result is the best known: it ends
+        // where it found that tour, before the stall that confirmed it.
+        let dir = heuristic_folder("target", 1);
+        let (best, all) = bench_once(&dir, false);
+        let _ = fs::remove_dir_all(&dir);
+        let dir = heuristic_folder("target", best);
+        let (reached, stopped) = bench_once(&dir, true);
         let _ = fs::remove_dir_all(dir);
-        let p = params(1.0, 1, Mode::Default, Some(7)).unwrap();
-        assert_eq!(p.target_cost, Some(7));
+        assert_eq!(reached, best);
+        assert!(
+            stopped < all,
+            "{stopped} iterations with the target, {all} without"
+        );
     }
 
     #[test]
