@@ -98,7 +98,12 @@ impl GaitCostModel {
         self.measured
             .iter()
             .copied()
-            .filter(|c| self.costs.contains_key(c) && desc.get(*c).is_some())
+            .filter(|&c| self.in_learning_set(c, desc))
+    }
+
+    /// Whether `c` is in L: described, with a measured cost.
+    fn in_learning_set(&self, c: Cell, desc: &DescriptorField) -> bool {
+        self.costs.contains_key(&c) && desc.get(c).is_some()
     }
 
     /// The index into the measured cells from which L's pairs train the GP: 0 unless more
@@ -109,8 +114,8 @@ impl GaitCostModel {
             return 0;
         };
         let mut kept = 0;
-        for (k, c) in self.measured.iter().enumerate().rev() {
-            if self.costs.contains_key(c) && desc.get(*c).is_some() {
+        for (k, &c) in self.measured.iter().enumerate().rev() {
+            if self.in_learning_set(c, desc) {
                 if kept == max {
                     return k + 1;
                 }
