@@ -357,6 +357,35 @@ proptest! {
         }
     }
 
+    /// A search object reused for many A* (which reset only the cells the last one touched),
+    /// with other searches in between, leaves exactly the fields of a fresh object's A*.
+    #[test]
+    fn reused_astar_equals_a_fresh_one(
+        g in grid_strategy(9),
+        picks in prop::collection::vec((any::<u32>(), any::<u32>(), 0u8..4), 1..12),
+    ) {
+        let cells = admissible_cells(&g);
+        prop_assume!(!cells.is_empty());
+        let mut reused = Dijkstra::new();
+        for (a, b, other) in picks {
+            let (s, t) = (cells[a as usize % cells.len()], cells[b as usize % cells.len()]);
+            if other == 0 {
+                reused.run(&g, t).unwrap();
+            } else if other == 1 {
+                reused.run_to_targets(&g, t, &[s]).unwrap();
+            }
+            let mut fresh = Dijkstra::new();
+            let want = fresh.astar(&g, s, t).unwrap();
+            let got = reused.astar(&g, s, t).unwrap();
+            prop_assert_eq!(got, want);
+            prop_assert_eq!(reused.distances(), fresh.distances());
+            prop_assert_eq!(reused.predecessors(), fresh.predecessors());
+            for c in g.rect().cells() {
+                prop_assert_eq!(reused.is_settled(c), fresh.is_settled(c));
+            }
+        }
+    }
+
     #[test]
     fn all_pairs_matches_single_source(g in grid_strategy(8), extra in prop::collection::vec(any::<u32>(), 1..8)) {
         let mut sites: Vec<Cell> = extra.iter().map(|&k| g.cell(k as usize % g.len())).collect();

@@ -187,6 +187,12 @@ pub struct Dijkstra {
     buckets: BucketQueue,
     rect: Option<strider_core::CellRect>,
     source: Option<usize>,
+    /// The cells an A* search gave a distance (see [`astar`](Self::astar)).
+    touched: Vec<u32>,
+    /// True when the fields hold their reset values everywhere but at `touched`: the next A*
+    /// then resets only those cells. A* on a large view reaches a small part of it, and a full
+    /// reset would cost more than the search.
+    touched_only: bool,
 }
 
 impl Dijkstra {
@@ -228,6 +234,7 @@ impl Dijkstra {
             return Err(SearchError::SourceInadmissible(source));
         }
         self.prepare(grid);
+        self.touched_only = false;
         self.dist.clear();
         self.dist.resize(n, f64::INFINITY);
         if full {
@@ -281,6 +288,9 @@ impl Dijkstra {
                 let nd = dp + step[b >> 2];
                 // A settled q already holds its final (≤ nd) distance, so no settled check.
                 if nd < self.dist[q] {
+                    if self.dist[q] == f64::INFINITY {
+                        self.touched.push(q as u32);
+                    }
                     self.dist[q] = nd;
                     self.pred[q] = idx;
                     queue.push(nd + h(q), q as u32);
@@ -544,7 +554,7 @@ impl Dijkstra {
         source: Cell,
         target: Cell,
     ) -> Result<f64, SearchError> {
-        let s = self.reset(grid, source)?;
+        let s = self.reset_touched(grid, source)?;
         let Some(t) = grid.index(target) else {
             return Ok(f64::INFINITY);
         };
@@ -559,6 +569,43 @@ impl Dijkstra {
         self.search(&mut heap, grid, s, |q| octile(q, t, w) * scale, |p| p == t);
         self.heap = heap;
         Ok(self.dist_settled(t))
+    }
+
+    /// As [`reset`](Self::reset), but after an A* on a grid of the same size only the cells
+    /// that search touched are reset; the search records the cells it touches from here on.
+    fn reset_touched(&mut self, grid: &CostGrid, source: Cell) -> Result<usize, SearchError> {
+        let n = grid.len();
+        if !(self.touched_only && self.dist.len() == n && self.rect == Some(grid.rect())) {
+            self.touched_only = false;
+            self.touched.clear();
+            let s = self.reset(grid, source)?;
+            self.touched.push(s as u32);
+            self.touched_only = true;
+            return Ok(s);
+        }
+        for &k in &self.touched {
+            let k = k as usize;
+            self.dist[k] = f64::INFINITY;
+            self.pred[k] = NO_PRED;
+            self.settled[k] = false;
+        }
+        self.touched.clear();
+        // The same checks and state as `reset_with`, without touching the fields.
+        if n >= NO_PRED as usize {
+            return Err(SearchError::GridTooLarge);
+        }
+        let s = grid
+            .index(source)
+            .ok_or(SearchError::SourceOutside(source))?;
+        if !grid.costs()[s].is_finite() {
+            return Err(SearchError::SourceInadmissible(source));
+        }
+        self.prepare(grid);
+        self.heap.clear();
+        self.source = Some(s);
+        self.dist[s] = 0.0;
+        self.touched.push(s as u32);
+        Ok(s)
     }
 
     #[inline]
