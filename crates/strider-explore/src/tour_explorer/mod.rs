@@ -68,6 +68,7 @@ use strider_learn::signals::{FallbackTimer, InverseVelocityCost, TurningTime};
 use strider_map::SpatialGoal;
 use strider_map::descriptors::TA_BINS;
 use strider_map::information_gain::GainCache;
+use strider_map::reachability::Reachability;
 use strider_plan::grid::Dijkstra;
 
 /// Elevation hysteresis of the incremental Eq. 11 ([`GainCache`]), metres: the order of the
@@ -178,6 +179,9 @@ pub struct TourExplorer {
     sampled: Vec<(u8, Cell)>,
     /// Eq. 11 kept between spatial updates.
     gain: GainCache,
+    /// The reachable cells of the last spatial update; kept so that each update refills the
+    /// same buffers instead of allocating two map-sized ones.
+    reach: Reachability,
     /// The last tour's (goal, site) order, the warm start of the next GTSP solve.
     last_tour: Vec<(GoalKey, Cell)>,
     /// Module timers, set when the mission starts.
@@ -230,6 +234,7 @@ impl TourExplorer {
             visited: Vec::new(),
             sampled: Vec::new(),
             gain: GainCache::new(GAIN_DZ),
+            reach: Reachability::default(),
             last_tour: Vec::new(),
             updates: vec![ModelUpdate::default(); n],
             looking: None,

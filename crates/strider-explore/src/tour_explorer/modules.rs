@@ -7,7 +7,6 @@ use crate::timing::ms_since;
 use rayon::prelude::*;
 use std::time::Instant;
 use strider_map::cluster_information;
-use strider_map::reachability::Reachability;
 
 impl TourExplorer {
     /// Learning and cost-goal identification when due.
@@ -41,12 +40,13 @@ impl TourExplorer {
         self.spatial_key = Some(key);
         self.spatial.clear();
         if let Some(c) = anchor {
-            let reach = Reachability::compute(map, c);
+            self.reach.recompute(map, c);
+            let reach = &self.reach;
             let bounds = body.bounds();
-            let gain = self.gain.compute(map, &reach, bounds);
+            let gain = self.gain.compute(map, reach, bounds);
             self.log.gain_evaluated += self.gain.last_evaluated();
             self.log.gain_updated += self.gain.last_updated();
-            self.spatial = cluster_information(map, &gain, &reach, bounds);
+            self.spatial = cluster_information(map, &gain, reach, bounds);
             let r = 2.0 * map.params().r_robot / map.cell_size();
             drop_visited(&mut self.spatial, &self.visited, r);
             self.spatial_once = true;
