@@ -87,11 +87,22 @@ impl GaitCostModel {
     /// classes, grouped into one goal per informative class; the informative classes left
     /// without a site are returned to be pruned.
     pub(super) fn class_goals(&self, classes: &[ClassInfo]) -> (Vec<CostGoal>, Vec<ClassId>) {
+        // The informative classes (I_C > 0), looked up per described cell: a handful, so a
+        // short sorted list beats a hash lookup on every cell of the map.
+        let mut informative: Vec<ClassId> = classes
+            .iter()
+            .filter(|c| c.information_gain > 0.0)
+            .map(|c| c.id)
+            .collect();
+        informative.sort_unstable();
+        if informative.is_empty() {
+            return (Vec::new(), Vec::new());
+        }
         let candidates = self.support.iter().map(|&k| k as usize).filter(|&k| {
             self.admissible[k]
                 && !self.measured_mask[k]
                 && match self.learn_class[k] {
-                    TerrainCell::Class(t) => self.class_gain.get(&t).copied().unwrap_or(0.0) > 0.0,
+                    TerrainCell::Class(t) => informative.binary_search(&t).is_ok(),
                     _ => false,
                 }
         });
