@@ -132,30 +132,45 @@ impl BucketQueue {
 const MOVES: [(i32, i32); 8] = strider_core::grid::NEIGHBOURS8;
 
 /// Per-cell bit mask of the allowed moves (Eq. 1 plus the corner rule), built once per grid.
+///
+/// Admissibility is first copied into a mask with a border of inadmissible cells, so the
+/// neighbour tests need no bounds checks: the hierarchical site costs build these masks for
+/// every cluster they search again, and the checked version cost about as much as the search.
 fn build_moves(grid: &CostGrid, out: &mut Vec<u8>) {
     let rect = grid.rect();
-    let (w, h) = (rect.width as i64, rect.height as i64);
+    let (w, h) = (rect.width as usize, rect.height as usize);
     let cost = grid.costs();
-    let free = |i: i64, j: i64| {
-        i >= 0 && j >= 0 && i < w && j < h && cost[(j * w + i) as usize].is_finite()
-    };
+    let pw = w + 2;
+    let mut free = vec![false; pw * (h + 2)];
+    for (j, row) in cost.chunks_exact(w.max(1)).take(h).enumerate() {
+        let at = (j + 1) * pw + 1;
+        for (f, c) in free[at..at + w].iter_mut().zip(row) {
+            *f = c.is_finite();
+        }
+    }
+    // Per move: the offset of its end cell and of its two side cells in the padded mask.
+    let off = |di: i32, dj: i32| di as isize + dj as isize * pw as isize;
+    let ends: [isize; 8] = MOVES.map(|(di, dj)| off(di, dj));
+    let sides: [(isize, isize); 8] = MOVES.map(|(di, dj)| (off(di, 0), off(0, dj)));
+    let diagonal: [bool; 8] = MOVES.map(|(di, dj)| di != 0 && dj != 0);
     out.clear();
-    out.extend((0..cost.len()).map(|k| {
-        let (i, j) = (k as i64 % w, k as i64 / w);
-        if !cost[k].is_finite() {
-            return 0u8;
-        }
-        let mut m = 0u8;
-        for (b, &(di, dj)) in MOVES.iter().enumerate() {
-            let (di, dj) = (di as i64, dj as i64);
-            let ok =
-                free(i + di, j + dj) && (di == 0 || dj == 0 || free(i + di, j) || free(i, j + dj));
-            if ok {
-                m |= 1 << b;
+    out.reserve(cost.len());
+    for j in 0..h {
+        for i in 0..w {
+            let p = ((j + 1) * pw + i + 1) as isize;
+            if !free[p as usize] {
+                out.push(0);
+                continue;
             }
+            let at = |o: isize| free[(p + o) as usize];
+            let mut m = 0u8;
+            for b in 0..8 {
+                let ok = at(ends[b]) && (!diagonal[b] || at(sides[b].0) || at(sides[b].1));
+                m |= (ok as u8) << b;
+            }
+            out.push(m);
         }
-        m
-    }));
+    }
 }
 
 /// Octile distance in cells between row-major indices (for the A* heuristic).
@@ -698,6 +713,50 @@ pub fn path_cost(grid: &CostGrid, path: &[Cell]) -> Option<f64> {
 mod tests {
     use super::*;
     use strider_core::CellRect;
+
+    /// The move masks by their definition: a move needs both end cells admissible, and a
+    /// diagonal one an admissible side cell; outside the grid is inadmissible.
+    fn moves_by_definition(grid: &CostGrid) -> Vec<u8> {
+        let rect = grid.rect();
+        let (w, h) = (rect.width as i64, rect.height as i64);
+        let cost = grid.costs();
+        let free = |i: i64, j: i64| {
+            i >= 0 && j >= 0 && i < w && j < h && cost[(j * w + i) as usize].is_finite()
+        };
+        (0..cost.len())
+            .map(|k| {
+                let (i, j) = (k as i64 % w, k as i64 / w);
+                if !free(i, j) {
+                    return 0;
+                }
+                let mut m = 0u8;
+                for (b, &(di, dj)) in MOVES.iter().enumerate() {
+                    let (di, dj) = (di as i64, dj as i64);
+                    let side = di == 0 || dj == 0 || free(i + di, j) || free(i, j + dj);
+                    if free(i + di, j + dj) && side {
+                        m |= 1 << b;
+                    }
+                }
+                m
+            })
+            .collect()
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn move_masks_follow_their_definition(
+            w in 1u32..12, h in 1u32..12,
+            blocked in proptest::collection::vec(proptest::bool::weighted(0.35), 144),
+        ) {
+            let costs: Vec<f32> = (0..(w * h) as usize)
+                .map(|k| if blocked[k] { f32::INFINITY } else { 1.0 + (k % 3) as f32 })
+                .collect();
+            let g = CostGrid::new(CellRect::new(Cell::new(-3, 5), w, h), 0.1, costs).unwrap();
+            let mut got = Vec::new();
+            build_moves(&g, &mut got);
+            proptest::prop_assert_eq!(got, moves_by_definition(&g));
+        }
+    }
 
     #[test]
     fn uniform_grid_octile() {
