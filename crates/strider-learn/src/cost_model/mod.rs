@@ -429,23 +429,49 @@ impl GaitCostModel {
     /// (decision 12: unseen terrain is as easy as ideal terrain), as does every cell before the
     /// regressor exists (flat costs).
     pub fn planning_costs(&self, rect: CellRect) -> Vec<f32> {
+        let prior = self.clamp(self.params.gp.prior_mean) as f32;
         if !self.has_regressor() {
-            return vec![self.clamp(self.params.gp.prior_mean) as f32; rect.len()];
+            return vec![prior; rect.len()];
         }
-        rect.cells()
-            .map(|c| {
-                let prior = self.clamp(self.params.gp.prior_mean);
-                let cost = match self.store.index(c).map(|k| self.plan_class[k]) {
-                    Some(TerrainCell::Class(t)) => self
-                        .class_cost
-                        .get(&t)
-                        .copied()
-                        .unwrap_or(self.params.c_max),
-                    Some(TerrainCell::Eroded) => self.params.c_max,
-                    Some(TerrainCell::Unknown) | None => prior,
-                };
-                cost as f32
-            })
-            .collect()
+        // The classes' costs by id, looked up per cell of the view: a dense table (ids are
+        // small and never reused) instead of a hash lookup on every cell.
+        let c_max = self.params.c_max as f32;
+        let table = self.class_cost_table();
+        let class_cost = |t: ClassId| match &table {
+            Some(v) => v.get(t.0 as usize).copied().unwrap_or(c_max),
+            None => self.class_cost.get(&t).map_or(c_max, |&c| c as f32),
+        };
+        let mut out = Vec::with_capacity(rect.len());
+        for j in rect.min.j..rect.min.j + rect.height as i32 {
+            for i in rect.min.i..rect.min.i + rect.width as i32 {
+                out.push(
+                    match self
+                        .store
+                        .index(Cell::new(i, j))
+                        .map(|k| self.plan_class[k])
+                    {
+                        Some(TerrainCell::Class(t)) => class_cost(t),
+                        Some(TerrainCell::Eroded) => c_max,
+                        Some(TerrainCell::Unknown) | None => prior,
+                    },
+                );
+            }
+        }
+        out
+    }
+
+    /// The classes' planning costs indexed by class id (c_max where a class has none), or
+    /// `None` when the largest id would make the table unreasonably large.
+    fn class_cost_table(&self) -> Option<Vec<f32>> {
+        const MAX_DENSE_IDS: u32 = 1 << 20;
+        let top = self.class_cost.keys().map(|t| t.0).max().unwrap_or(0);
+        if top >= MAX_DENSE_IDS {
+            return None;
+        }
+        let mut v = vec![self.params.c_max as f32; top as usize + 1];
+        for (t, &c) in &self.class_cost {
+            v[t.0 as usize] = c as f32;
+        }
+        Some(v)
     }
 }
