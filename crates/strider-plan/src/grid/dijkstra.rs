@@ -173,6 +173,20 @@ fn build_moves(grid: &CostGrid, out: &mut Vec<u8>) {
     }
 }
 
+/// The index of a search's source cell, or why a search cannot start from it.
+fn source_index(grid: &CostGrid, source: Cell) -> Result<usize, SearchError> {
+    if grid.len() >= NO_PRED as usize {
+        return Err(SearchError::GridTooLarge);
+    }
+    let s = grid
+        .index(source)
+        .ok_or(SearchError::SourceOutside(source))?;
+    if !grid.costs()[s].is_finite() {
+        return Err(SearchError::SourceInadmissible(source));
+    }
+    Ok(s)
+}
+
 /// Octile distance in cells between row-major indices (for the A* heuristic).
 #[inline]
 fn octile(a: usize, b: usize, w: usize) -> f64 {
@@ -239,15 +253,7 @@ impl Dijkstra {
         full: bool,
     ) -> Result<usize, SearchError> {
         let n = grid.len();
-        if n >= NO_PRED as usize {
-            return Err(SearchError::GridTooLarge);
-        }
-        let s = grid
-            .index(source)
-            .ok_or(SearchError::SourceOutside(source))?;
-        if !grid.costs()[s].is_finite() {
-            return Err(SearchError::SourceInadmissible(source));
-        }
+        let s = source_index(grid, source)?;
         self.prepare(grid);
         self.touched_only = false;
         self.dist.clear();
@@ -606,15 +612,7 @@ impl Dijkstra {
         }
         self.touched.clear();
         // The same checks and state as `reset_with`, without touching the fields.
-        if n >= NO_PRED as usize {
-            return Err(SearchError::GridTooLarge);
-        }
-        let s = grid
-            .index(source)
-            .ok_or(SearchError::SourceOutside(source))?;
-        if !grid.costs()[s].is_finite() {
-            return Err(SearchError::SourceInadmissible(source));
-        }
+        let s = source_index(grid, source)?;
         self.prepare(grid);
         self.heap.clear();
         self.source = Some(s);
