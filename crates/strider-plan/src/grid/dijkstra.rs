@@ -255,7 +255,9 @@ impl Dijkstra {
         let n = grid.len();
         let s = source_index(grid, source)?;
         self.prepare(grid);
+        // Only A* uses the touched list, but every heap search records into it.
         self.touched_only = false;
+        self.touched.clear();
         self.dist.clear();
         self.dist.resize(n, f64::INFINITY);
         if full {
