@@ -96,6 +96,10 @@ pub struct ScaleWindow {
     pub view_ms_median: Option<f64>,
     /// Median GTSP solve time of the window's replans, ms.
     pub gtsp_ms_median: Option<f64>,
+    /// Replans that found no near goal reachable within the horizon's window and planned every
+    /// goal on the whole map, and their latency, ms.
+    pub whole_map_replans: usize,
+    pub whole_map_replan_ms: Option<Quantiles>,
     /// The window's learning updates, ms.
     pub learning_ms: Option<Quantiles>,
 }
@@ -164,6 +168,7 @@ struct Replan {
     all_pairs_ms: f64,
     view_ms: f64,
     gtsp_ms: f64,
+    whole_map: bool,
 }
 
 fn check(o: &ScaleOptions) -> Result<Strategy> {
@@ -226,6 +231,7 @@ pub fn scale(o: &ScaleOptions, out: &Path, progress: &dyn Progress) -> Result<Sc
             all_pairs_ms: p.all_pairs_ms,
             view_ms: p.view_ms,
             gtsp_ms: p.gtsp_ms,
+            whole_map: p.whole_map,
         })
         .collect();
     let record = mission.record();
@@ -311,6 +317,14 @@ fn windows(
             all_pairs_ms_median: Quantiles::of(&of(|r| r.all_pairs_ms)).map(|q| q.median),
             view_ms_median: Quantiles::of(&of(|r| r.view_ms)).map(|q| q.median),
             gtsp_ms_median: Quantiles::of(&of(|r| r.gtsp_ms)).map(|q| q.median),
+            whole_map_replans: inside.iter().filter(|r| r.whole_map).count(),
+            whole_map_replan_ms: Quantiles::of(
+                &inside
+                    .iter()
+                    .filter(|r| r.whole_map)
+                    .map(|r| r.replan_ms)
+                    .collect::<Vec<f64>>(),
+            ),
             learning_ms: Quantiles::of(
                 &learning
                     .iter()
@@ -446,13 +460,13 @@ pub fn markdown(r: &ScaleReport) -> String {
     );
     let _ = writeln!(
         md,
-        "| simulated time | cells observed | real-time factor | replan ms (median / p95 / max) | new data → new tour ms | learning ms | GTSP vertices (median) | view / all-pairs / GTSP ms (medians) |\n|---|---|---|---|---|---|---|---|"
+        "| simulated time | cells observed | real-time factor | replan ms (median / p95 / max) | new data → new tour ms | learning ms | GTSP vertices (median) | view / all-pairs / GTSP ms (medians) | whole-map replans: count, ms |\n|---|---|---|---|---|---|---|---|---|"
     );
     for w in &r.windows {
         let opt = |v: Option<f64>| v.map_or("–".into(), |v| format!("{v:.0}"));
         let _ = writeln!(
             md,
-            "| {:.0} s | {} | {:.0}× | {} | {} | {} | {} | {} / {} / {} |",
+            "| {:.0} s | {} | {:.0}× | {} | {} | {} | {} | {} / {} / {} | {}: {} |",
             w.t_end_s,
             w.observed_cells,
             w.real_time_factor,
@@ -462,7 +476,9 @@ pub fn markdown(r: &ScaleReport) -> String {
             opt(w.vertices_median),
             opt(w.view_ms_median),
             opt(w.all_pairs_ms_median),
-            opt(w.gtsp_ms_median)
+            opt(w.gtsp_ms_median),
+            w.whole_map_replans,
+            fmt_q(&w.whole_map_replan_ms)
         );
     }
     md
@@ -499,6 +515,7 @@ mod tests {
                 all_pairs_ms: 1.0,
                 view_ms: 1.0,
                 gtsp_ms: 1.0,
+                whole_map: k == 7,
             })
             .collect();
         let learning = [(12.0, 3.0), (48.0, 5.0), (71.0, 9.0)];
@@ -510,6 +527,9 @@ mod tests {
         assert_eq!(w[1].replan_ms.unwrap().max, 10.0);
         assert_eq!(w[0].learning_ms.unwrap().count, 2);
         assert_eq!(w[1].learning_ms.unwrap().median, 9.0);
+        assert_eq!((w[0].whole_map_replans, w[1].whole_map_replans), (0, 1));
+        assert!(w[0].whole_map_replan_ms.is_none());
+        assert_eq!(w[1].whole_map_replan_ms.unwrap().median, 7.0);
         assert_eq!(cells_at(&samples, 35.0), 300);
         assert_eq!(nice_bucket(4_000_000), 100_000);
         assert_eq!(nice_bucket(500), 1000);

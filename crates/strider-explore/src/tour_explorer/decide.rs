@@ -146,7 +146,8 @@ impl TourExplorer {
         let mut view_ms = ms_since(wv);
         let (mut tour, mut path_found) =
             self.plan_and_follow(body, robot, here, &near, near_commit);
-        if !path_found && window.is_some() {
+        let whole_map = !path_found && window.is_some();
+        if whole_map {
             // Nothing reachable among the near goals within their window, perhaps only round
             // it or beyond the horizon: every goal on the whole map.
             let wv = Instant::now();
@@ -154,7 +155,7 @@ impl TourExplorer {
             view_ms += ms_since(wv);
             (tour, path_found) = self.plan_and_follow(body, robot, here, goals, commit);
         }
-        self.log_replan(ms_since(w), t, view_ms, tour.as_ref());
+        self.log_replan(ms_since(w), t, view_ms, tour.as_ref(), whole_map);
         if path_found {
             self.unreachable_since = None;
             return None;
@@ -270,7 +271,7 @@ impl TourExplorer {
     }
 
     /// Logs a replan of `ms` at robot time `t`.
-    fn log_replan(&mut self, ms: f64, t: f64, view_ms: f64, tour: Option<&Tour>) {
+    fn log_replan(&mut self, ms: f64, t: f64, view_ms: f64, tour: Option<&Tour>, whole_map: bool) {
         self.log.replan_ms.push(ms);
         self.log
             .goals_to_tour_ms
@@ -282,6 +283,7 @@ impl TourExplorer {
             all_pairs_ms: tour.map_or(0.0, |t| t.all_pairs_ms),
             gtsp_ms: tour.map_or(0.0, |t| t.gtsp_ms),
             vertices: tour.map_or(0, |t| t.vertices),
+            whole_map,
         });
     }
 

@@ -54,6 +54,9 @@ pub struct ReplanParts {
     pub gtsp_ms: f64,
     /// Vertices of the GTSP instance (robot + reachable sites).
     pub vertices: usize,
+    /// No near goal was reachable within the horizon's window, so every goal was planned again
+    /// on the whole map (the all-pairs and GTSP figures are that second plan's).
+    pub whole_map: bool,
 }
 
 /// Wall time spent in each part of the mission loop, s.
