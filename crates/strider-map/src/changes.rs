@@ -56,6 +56,24 @@ impl ChangeLog {
         }
     }
 
+    /// Marks every cell of `rect` changed in the current revision.
+    pub(crate) fn mark_rect(&mut self, rect: CellRect) {
+        if rect.is_empty() {
+            return;
+        }
+        let (mi, mj) = crate::rect::max_corner(rect);
+        let (lo, hi) = (block_of(rect.min), block_of(Cell::new(mi, mj)));
+        for tj in lo.tj..=hi.tj {
+            for ti in lo.ti..=hi.ti {
+                let key = TileKey { tj, ti };
+                if self.blocks.insert(key, self.revision) != Some(self.revision) {
+                    self.journal.push((self.revision, key));
+                }
+            }
+        }
+        self.last = None;
+    }
+
     /// Rewrites the journal as one entry per block at its newest stamp, in revision order.
     fn compact(&mut self) {
         self.journal = self.blocks.iter().map(|(&k, &rev)| (rev, k)).collect();

@@ -42,6 +42,9 @@ pub struct ElevationMap {
     pub(crate) changes: ChangeLog,
     /// The revision of `changes` that passability and admissibility are up to date with.
     pub(crate) passability_revision: u64,
+    /// Where the admissibility layer was rewritten, one revision per passability update: its
+    /// consumers follow it instead of re-reading the whole layer.
+    pub(crate) admissible_changes: ChangeLog,
     /// Number of scans fused.
     pub(crate) scans: u64,
     pub(crate) scratch: FusionScratch,
@@ -73,6 +76,7 @@ impl ElevationMap {
             dirty: None,
             changes: ChangeLog::default(),
             passability_revision: 0,
+            admissible_changes: ChangeLog::default(),
             scans: 0,
             scratch: FusionScratch::default(),
         }
@@ -195,6 +199,12 @@ impl ElevationMap {
     /// layers be refreshed in the changed region only.
     pub fn changes(&self) -> &ChangeLog {
         &self.changes
+    }
+
+    /// Where the admissibility layer ([`ElevationMap::admissible_layer`]) was rewritten, by
+    /// revision (a superset of the cells whose value changed).
+    pub fn admissible_changes(&self) -> &ChangeLog {
+        &self.admissible_changes
     }
 
     /// The elevation-mean layer (valid where [`ElevationMap::observed_layer`] is true).

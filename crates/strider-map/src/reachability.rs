@@ -15,6 +15,9 @@ pub struct Reachability {
     admissible: Vec<bool>,
     queue: VecDeque<usize>,
     count: usize,
+    /// The revision of the map's admissibility changes that `admissible` matches, when it was
+    /// read from the map by [`Reachability::follow`] or [`Reachability::recompute`].
+    seen: Option<u64>,
 }
 
 impl Default for Reachability {
@@ -26,6 +29,7 @@ impl Default for Reachability {
             admissible: Vec::new(),
             queue: VecDeque::new(),
             count: 0,
+            seen: None,
         }
     }
 }
@@ -72,7 +76,97 @@ impl Reachability {
         self.start = Some(start);
         map.admissible_layer()
             .read_rect(self.rect, &mut self.admissible);
+        self.seen = Some(map.admissible_changes().revision());
         self.fill(map, start);
+    }
+
+    /// [`Reachability::recompute`] for a set that follows one map through its updates: the
+    /// same cells, but when the known bounds and the start's component are unchanged it reads
+    /// only the admissibility the map rewrote since the last call and grows the set from the
+    /// cells that became admissible beside it. A reached cell that became inadmissible may
+    /// split the set, and a new start may lie in another component: both start over.
+    ///
+    /// The caller passes the map this set was last computed from (the same map, changed only
+    /// through its own methods); another map needs [`Reachability::recompute`].
+    pub fn follow(&mut self, map: &ElevationMap, start: Cell) {
+        let rect = map.known_bounds().unwrap_or(CellRect::new(start, 0, 0));
+        let log = map.admissible_changes();
+        let seen = self
+            .seen
+            .filter(|&s| s <= log.revision() && rect == self.rect)
+            .filter(|_| self.same_component(start));
+        let Some(seen) = seen else {
+            return self.recompute(map, start);
+        };
+        let grown = self.apply_admissibility_changes(map, seen);
+        self.seen = Some(log.revision());
+        match grown {
+            Some(seeds) => {
+                self.start = Some(start);
+                self.queue.extend(seeds);
+                self.fill_from_queue();
+            }
+            None => self.recompute(map, start),
+        }
+    }
+
+    /// True when the set computed from the last start is also the set of `start`: the same
+    /// start, or both admissible with `start` reached (the component of an admissible start
+    /// is the same from any of its cells).
+    fn same_component(&self, start: Cell) -> bool {
+        let (Some(old), Some(k)) = (self.start, self.rect.index(start)) else {
+            return false;
+        };
+        let Some(o) = self.rect.index(old) else {
+            return false;
+        };
+        if !self.reach[o] {
+            return false;
+        }
+        old == start || (self.admissible[o] && self.admissible[k] && self.reach[k])
+    }
+
+    /// Reads the admissibility the map rewrote after revision `seen` into `admissible`: the
+    /// cells that became admissible beside a reached cell (seeds of the fill), or `None` when
+    /// a reached cell became inadmissible.
+    fn apply_admissibility_changes(&mut self, map: &ElevationMap, seen: u64) -> Option<Vec<usize>> {
+        let layer = map.admissible_layer();
+        let mut added = Vec::new();
+        let mut lost = false;
+        for block in map.admissible_changes().changed_since(seen) {
+            let Some(r) = crate::rect::intersection(block, self.rect) else {
+                continue;
+            };
+            for c in r.cells() {
+                let Some(k) = self.rect.index(c) else {
+                    continue;
+                };
+                let now = layer.value(c);
+                if now == self.admissible[k] {
+                    continue;
+                }
+                self.admissible[k] = now;
+                if self.reach[k] && !now {
+                    lost = true;
+                } else if now && !self.reach[k] {
+                    added.push(k);
+                }
+            }
+        }
+        if lost {
+            return None;
+        }
+        let (w, h) = (self.rect.width as usize, self.rect.height as usize);
+        added.retain(|&k| self.touches_reached(k, w, h));
+        Some(added)
+    }
+
+    /// True when an 8-neighbour of cell `k` is reached.
+    fn touches_reached(&self, k: usize, w: usize, h: usize) -> bool {
+        let (x, y) = (k % w, k / w);
+        let (x0, x1) = (x.saturating_sub(1), (x + 1).min(w - 1));
+        let (y0, y1) = (y.saturating_sub(1), (y + 1).min(h - 1));
+        (y0..=y1).any(|yy| self.reach[yy * w + x0..=yy * w + x1].iter().any(|&r| r))
     }
 
     /// The flood fill from `start` over `self.admissible`, by row spans: each span of
@@ -102,6 +196,13 @@ impl Reachability {
             self.seed_row(sx, sx, sy, 1, w, h);
             self.seed_row(sx.saturating_sub(1), (sx + 1).min(w - 1), sy, 0, w, h);
         }
+        self.fill_from_queue();
+    }
+
+    /// Fills the spans of admissible, unreached cells from the queued cells and every span
+    /// they touch.
+    fn fill_from_queue(&mut self) {
+        let (w, h) = (self.rect.width as usize, self.rect.height as usize);
         while let Some(k) = self.queue.pop_back() {
             if self.reach[k] {
                 continue;
@@ -327,6 +428,56 @@ mod tests {
             let want = reached_by_search(&adm, w, h, start);
             proptest::prop_assert_eq!(r.bitmap(), &want[..]);
             proptest::prop_assert_eq!(r.count(), want.iter().filter(|&&b| b).count());
+        }
+
+        /// A set that follows a map through edits (walls raised and removed, the known area
+        /// grown, the start moved) equals the set computed afresh after each edit: the
+        /// incremental growth, the restarts on a lost cell or a new component, and the
+        /// admissibility read from the map's change log.
+        #[test]
+        fn following_a_map_equals_computing_afresh(
+            edits in proptest::collection::vec(
+                (proptest::collection::vec((0..24i32, 0..20i32, proptest::bool::weighted(0.5)), 1..12),
+                 0..6usize, proptest::bool::weighted(0.15)),
+                1..12,
+            ),
+            r_robot in proptest::sample::select(vec![0.0, 0.1, 0.25]),
+        ) {
+            let mut m = ElevationMap::new(MapParams {
+                cell_size: 0.1,
+                tile_size: 4,
+                r_robot,
+                rho_obstacle: 0.1,
+                ..MapParams::default()
+            });
+            known(&mut m, block(0, 0, 16, 14), |_| 0.0);
+            m.update_passability();
+            let starts = [
+                Cell::new(1, 1),
+                Cell::new(2, 1),
+                Cell::new(12, 10),
+                Cell::new(8, 3),
+                Cell::new(1, 1),
+                Cell::new(20, 18),
+            ];
+            let mut followed = Reachability::default();
+            for (cells, s, grow) in edits {
+                for (i, j, wall) in cells {
+                    // Cells beyond the first block grow the known bounds.
+                    if grow || (i < 16 && j < 14) {
+                        m.set_cell(Cell::new(i, j), if wall { 1.0 } else { 0.0 }, 1e-4, Rgb8::default());
+                    }
+                }
+                m.update_passability();
+                followed.follow(&m, starts[s]);
+                let fresh = Reachability::compute(&m, starts[s]);
+                proptest::prop_assert_eq!(followed.rect(), fresh.rect());
+                proptest::prop_assert_eq!(followed.bitmap(), fresh.bitmap());
+                proptest::prop_assert_eq!(followed.count(), fresh.count());
+                for c in fresh.rect().cells() {
+                    proptest::prop_assert_eq!(followed.is_goal_cell(c), fresh.is_goal_cell(c));
+                }
+            }
         }
 
         /// The ring search finds what a scan of every cell finds (nearest, ties row-major).

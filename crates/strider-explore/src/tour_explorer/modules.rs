@@ -40,7 +40,7 @@ impl TourExplorer {
         self.spatial_key = Some(key);
         self.spatial.clear();
         if let Some(c) = anchor {
-            self.reach.recompute(map, c);
+            self.reach.follow(map, c);
             let reach = &self.reach;
             let bounds = body.bounds();
             let gain = self.gain.compute(map, reach, bounds);

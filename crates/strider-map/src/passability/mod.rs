@@ -37,6 +37,7 @@ impl ElevationMap {
     /// passability first, so that admissibility reads the new passability everywhere.
     pub fn update_passability(&mut self) -> Option<CellRect> {
         self.dirty.take()?;
+        self.admissible_changes.begin();
         let blocks = dense_or_sparse(self.changes.changed_since(self.passability_revision));
         self.passability_revision = self.changes.revision();
         let changed: Vec<CellRect> = blocks
@@ -96,6 +97,7 @@ impl ElevationMap {
         );
         self.admissible
             .write_rect(a_rect, &rect::crop(&adm, q_rect, a_rect));
+        self.admissible_changes.mark_rect(a_rect);
         a_rect
     }
 }
