@@ -94,6 +94,8 @@ pub struct ScaleWindow {
     pub all_pairs_ms_median: Option<f64>,
     /// Median planning-view build time of the window's replans, ms.
     pub view_ms_median: Option<f64>,
+    /// Median cells of the planning views the window's tours were planned on.
+    pub view_cells_median: Option<f64>,
     /// Median GTSP solve time of the window's replans, ms.
     pub gtsp_ms_median: Option<f64>,
     /// Replans that found no near goal reachable within the horizon's window and planned every
@@ -169,6 +171,7 @@ struct Replan {
     view_ms: f64,
     gtsp_ms: f64,
     whole_map: bool,
+    view_cells: usize,
 }
 
 fn check(o: &ScaleOptions) -> Result<Strategy> {
@@ -232,6 +235,7 @@ pub fn scale(o: &ScaleOptions, out: &Path, progress: &dyn Progress) -> Result<Sc
             view_ms: p.view_ms,
             gtsp_ms: p.gtsp_ms,
             whole_map: p.whole_map,
+            view_cells: p.view_cells,
         })
         .collect();
     let record = mission.record();
@@ -316,6 +320,7 @@ fn windows(
             vertices_median: Quantiles::of(&of(|r| r.vertices as f64)).map(|q| q.median),
             all_pairs_ms_median: Quantiles::of(&of(|r| r.all_pairs_ms)).map(|q| q.median),
             view_ms_median: Quantiles::of(&of(|r| r.view_ms)).map(|q| q.median),
+            view_cells_median: Quantiles::of(&of(|r| r.view_cells as f64)).map(|q| q.median),
             gtsp_ms_median: Quantiles::of(&of(|r| r.gtsp_ms)).map(|q| q.median),
             whole_map_replans: inside.iter().filter(|r| r.whole_map).count(),
             whole_map_replan_ms: Quantiles::of(
@@ -460,13 +465,13 @@ pub fn markdown(r: &ScaleReport) -> String {
     );
     let _ = writeln!(
         md,
-        "| simulated time | cells observed | real-time factor | replan ms (median / p95 / max) | new data → new tour ms | learning ms | GTSP vertices (median) | view / all-pairs / GTSP ms (medians) | whole-map replans: count, ms |\n|---|---|---|---|---|---|---|---|---|"
+        "| simulated time | cells observed | real-time factor | replan ms (median / p95 / max) | new data → new tour ms | learning ms | GTSP vertices (median) | view cells (median) | view / all-pairs / GTSP ms (medians) | whole-map replans: count, ms |\n|---|---|---|---|---|---|---|---|---|---|"
     );
     for w in &r.windows {
         let opt = |v: Option<f64>| v.map_or("–".into(), |v| format!("{v:.0}"));
         let _ = writeln!(
             md,
-            "| {:.0} s | {} | {:.0}× | {} | {} | {} | {} | {} / {} / {} | {}: {} |",
+            "| {:.0} s | {} | {:.0}× | {} | {} | {} | {} | {} | {} / {} / {} | {}: {} |",
             w.t_end_s,
             w.observed_cells,
             w.real_time_factor,
@@ -474,6 +479,7 @@ pub fn markdown(r: &ScaleReport) -> String {
             fmt_q(&w.data_to_tour_ms),
             fmt_q(&w.learning_ms),
             opt(w.vertices_median),
+            opt(w.view_cells_median),
             opt(w.view_ms_median),
             opt(w.all_pairs_ms_median),
             opt(w.gtsp_ms_median),
@@ -516,6 +522,7 @@ mod tests {
                 view_ms: 1.0,
                 gtsp_ms: 1.0,
                 whole_map: k == 7,
+                view_cells: 100 * k,
             })
             .collect();
         let learning = [(12.0, 3.0), (48.0, 5.0), (71.0, 9.0)];
@@ -528,6 +535,7 @@ mod tests {
         assert_eq!(w[0].learning_ms.unwrap().count, 2);
         assert_eq!(w[1].learning_ms.unwrap().median, 9.0);
         assert_eq!((w[0].whole_map_replans, w[1].whole_map_replans), (0, 1));
+        assert_eq!(w[1].view_cells_median, Some(800.0));
         assert!(w[0].whole_map_replan_ms.is_none());
         assert_eq!(w[1].whole_map_replan_ms.unwrap().median, 7.0);
         assert_eq!(cells_at(&samples, 35.0), 300);

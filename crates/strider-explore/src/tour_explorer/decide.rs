@@ -284,6 +284,7 @@ impl TourExplorer {
             gtsp_ms: tour.map_or(0.0, |t| t.gtsp_ms),
             vertices: tour.map_or(0, |t| t.vertices),
             whole_map,
+            view_cells: self.view.as_ref().map_or(0, |v| v.rect().len()),
         });
     }
 

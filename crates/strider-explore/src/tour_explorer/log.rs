@@ -57,6 +57,8 @@ pub struct ReplanParts {
     /// No near goal was reachable within the horizon's window, so every goal was planned again
     /// on the whole map (the all-pairs and GTSP figures are that second plan's).
     pub whole_map: bool,
+    /// Cells of the planning view the tour was planned on (0 without a view).
+    pub view_cells: usize,
 }
 
 /// Wall time spent in each part of the mission loop, s.
