@@ -60,6 +60,9 @@ impl Clone for DescriptorField {
             changed: Vec::new(),
             changed_old: Vec::new(),
             log_start: 0,
+            added_rev: Vec::new(),
+            added: Vec::new(),
+            added_start: 0,
             rect: self.rect,
             store: self.store,
             dim: self.dim,
@@ -84,6 +87,11 @@ pub struct DescriptorField {
     changed: Vec<u32>,
     changed_old: Vec<f64>,
     log_start: u64,
+    /// The newly described cells: per entry the revision and the storage index. It holds every
+    /// one after revision `added_start`.
+    added_rev: Vec<u64>,
+    added: Vec<u32>,
+    added_start: u64,
     rect: CellRect,
     store: CellRect,
     dim: usize,
@@ -142,6 +150,9 @@ impl DescriptorField {
             changed: Vec::new(),
             changed_old: Vec::new(),
             log_start: 0,
+            added_rev: Vec::new(),
+            added: Vec::new(),
+            added_start: 0,
             rect,
             store,
             dim,
@@ -352,6 +363,9 @@ impl DescriptorField {
         out.extend_from_slice(&added[j..]);
         out.dedup();
         self.order = out;
+        self.added_rev
+            .extend(std::iter::repeat_n(self.version.revision, added.len()));
+        self.added.extend_from_slice(&added);
     }
 
     /// Sets the descriptor of cell `c`. Returns `false` (and counts a rejection) when `c` is
@@ -376,6 +390,11 @@ impl DescriptorField {
             self.changed.clear();
             self.changed_old.clear();
             self.log_start = self.version.revision;
+        }
+        if self.added.len() > self.order.len().max(1024) {
+            self.added_rev.clear();
+            self.added.clear();
+            self.added_start = self.version.revision;
         }
         self.version.revision = self.version.revision.wrapping_add(1);
     }
@@ -410,6 +429,21 @@ impl DescriptorField {
                 .zip(self.changed_old[first * dim..].chunks_exact(dim))
                 .map(|(&n, old)| (n as usize, old)),
         )
+    }
+
+    /// The storage indices of the cells newly described after version `seen` (a cell that
+    /// lost its descriptor and got one again is listed again), in the order described; they
+    /// may have lost their descriptor since. `None` as for
+    /// [`changes_since`](Self::changes_since).
+    pub fn added_since(&self, seen: FieldVersion) -> Option<&[u32]> {
+        if seen.id != self.version.id
+            || seen.revision < self.added_start
+            || seen.revision > self.version.revision
+        {
+            return None;
+        }
+        let first = self.added_rev.partition_point(|&r| r <= seen.revision);
+        Some(&self.added[first..])
     }
 
     /// The rectangle covered.

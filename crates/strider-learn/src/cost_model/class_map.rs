@@ -16,6 +16,9 @@
 //! window's own edge can only disturb the margin that is not copied back. The results are the
 //! whole-map operations' (a property test compares them).
 
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
 use strider_core::CellRect;
 
 use crate::descriptor_field::{DescriptorField, FieldVersion};
@@ -38,6 +41,11 @@ pub(super) struct RawClasses {
     prototypes: Vec<(ClassId, Vec<f64>)>,
     /// The descriptor field's version at the last classification; `None`: classify all.
     seen: Option<FieldVersion>,
+    /// The classified cells by budget, lowest first, so that an update finds the cells whose
+    /// budget the drift used up without reading every cell. Entries are (the budget's
+    /// [`order_key`], storage index); an entry whose budget is no longer the cell's is stale
+    /// and skipped.
+    by_budget: BinaryHeap<Reverse<(u32, u32)>>,
     /// What the classifications so far did.
     pub(super) counts: ClassificationCounts,
 }
@@ -71,6 +79,7 @@ impl RawClasses {
         self.raw.resize(cells, TerrainCell::Unknown);
         self.budget.clear();
         self.budget.resize(cells, f32::NEG_INFINITY);
+        self.by_budget.clear();
         self.seen = None;
     }
 
@@ -87,16 +96,23 @@ impl RawClasses {
         igng: &Igng,
         support: &[u32],
     ) -> Reclassified {
-        let changed: Option<Vec<usize>> = self
+        let logs = self
             .seen
             .filter(|_| self.raw.len() == desc.storage().len())
-            .and_then(|s| desc.changes_since(s))
-            .map(|log| log.map(|(n, _)| n).collect());
-        let moved = changed.and_then(|c| Some((c, self.largest_move(igng)?)));
+            .and_then(|s| {
+                let changed: Vec<usize> = desc.changes_since(s)?.map(|(n, _)| n).collect();
+                Some((changed, desc.added_since(s)?))
+            });
+        let moved = logs.and_then(|l| Some((l, self.largest_move(igng)?)));
         let out = match moved {
-            Some((changed, (step, gone))) => {
+            Some(((changed, added), (step, gone))) => {
                 self.drift += step;
-                self.reclassify_stale(desc, igng, support, &changed, &gone)
+                let logs = Logs {
+                    changed: &changed,
+                    added,
+                    gone: &gone,
+                };
+                self.reclassify_stale(desc, igng, support, logs)
             }
             None => self.classify_all(desc, igng, support),
         };
@@ -151,6 +167,7 @@ impl RawClasses {
         for &k in support {
             self.classify_cell(desc, igng, k as usize);
         }
+        self.rebuild_budget_queue(support);
         Reclassified {
             full: true,
             changed: Vec::new(),
@@ -158,17 +175,73 @@ impl RawClasses {
         }
     }
 
-    /// Reclassifies the cells whose descriptor `changed` (storage indices from the field's
-    /// log), that are new, whose budget is used up or whose class is `gone`.
+    /// Reclassifies the cells whose descriptor changed (storage indices from the field's log),
+    /// that are new, whose budget is used up or whose class is gone.
     fn reclassify_stale(
         &mut self,
         desc: &DescriptorField,
         igng: &Igng,
         support: &[u32],
-        changed: &[usize],
-        gone: &[ClassId],
+        logs: Logs,
     ) -> Reclassified {
         let mut out = Reclassified::default();
+        if !logs.gone.is_empty() {
+            // A class was pruned (rare): its cells are found by reading every cell.
+            self.reclassify_every_stale(desc, igng, support, logs.gone, &mut out);
+        } else {
+            let mut stale = self.used_up_budgets();
+            // As over the described cells only: the undescribed ones come with `changed`.
+            stale.retain(|&k| desc.get_stored(k).is_some());
+            // New cells: described now and not classified since they were described.
+            stale.extend(logs.added.iter().map(|&k| k as usize).filter(|&k| {
+                k < self.raw.len()
+                    && self.raw[k] == TerrainCell::Unknown
+                    && desc.get_stored(k).is_some()
+            }));
+            stale.sort_unstable();
+            stale.dedup();
+            for k in stale {
+                self.reclassify(desc, igng, k, &mut out);
+            }
+        }
+        for &n in logs.changed {
+            if n < self.raw.len() {
+                self.reclassify(desc, igng, n, &mut out);
+            }
+        }
+        if self.by_budget.len() > 2 * support.len() + 4096 {
+            self.rebuild_budget_queue(support);
+        }
+        out
+    }
+
+    /// The cells (described or not) whose budget the drift used up, taken off the queue.
+    fn used_up_budgets(&mut self) -> Vec<usize> {
+        let mut stale = Vec::new();
+        while let Some(&Reverse((key, k))) = self.by_budget.peek() {
+            if self.drift < f64::from(from_order_key(key)) {
+                break;
+            }
+            self.by_budget.pop();
+            let k = k as usize;
+            // Only the cell's current budget counts; older entries were superseded.
+            if order_key(self.budget[k]) == key && matches!(self.raw[k], TerrainCell::Class(_)) {
+                stale.push(k);
+            }
+        }
+        stale
+    }
+
+    /// The reclassification by reading every described cell: the unknown ones, those of a
+    /// class in `gone` and those whose budget is used up.
+    fn reclassify_every_stale(
+        &mut self,
+        desc: &DescriptorField,
+        igng: &Igng,
+        support: &[u32],
+        gone: &[ClassId],
+        out: &mut Reclassified,
+    ) {
         let drift = self.drift;
         for &k in support {
             let k = k as usize;
@@ -178,15 +251,19 @@ impl RawClasses {
                 TerrainCell::Eroded => false,
             } || drift >= f64::from(self.budget[k]);
             if stale {
-                self.reclassify(desc, igng, k, &mut out);
+                self.reclassify(desc, igng, k, out);
             }
         }
-        for &n in changed {
-            if n < self.raw.len() {
-                self.reclassify(desc, igng, n, &mut out);
-            }
-        }
-        out
+    }
+
+    /// The queue of budgets from scratch: one entry per classified described cell.
+    fn rebuild_budget_queue(&mut self, support: &[u32]) {
+        let entries: Vec<Reverse<(u32, u32)>> = support
+            .iter()
+            .filter(|&&k| matches!(self.raw[k as usize], TerrainCell::Class(_)))
+            .map(|&k| Reverse((order_key(self.budget[k as usize]), k)))
+            .collect();
+        self.by_budget = BinaryHeap::from(entries);
     }
 
     /// Classifies storage cell `k` again (unknown when not described), recording a change.
@@ -199,6 +276,10 @@ impl RawClasses {
     ) {
         let before = self.raw[k];
         self.classify_cell(desc, igng, k);
+        if matches!(self.raw[k], TerrainCell::Class(_)) {
+            self.by_budget
+                .push(Reverse((order_key(self.budget[k]), k as u32)));
+        }
         out.classified += 1;
         if self.raw[k] != before {
             out.changed.push(k as u32);
@@ -218,6 +299,35 @@ impl RawClasses {
         };
         self.raw[k] = class;
         self.budget[k] = round_down(budget);
+    }
+}
+
+/// What changed in the descriptor field and the classes since the last classification.
+struct Logs<'a> {
+    /// Storage cells whose descriptor was replaced or removed.
+    changed: &'a [usize],
+    /// Storage cells newly described.
+    added: &'a [u32],
+    /// Classes gone.
+    gone: &'a [ClassId],
+}
+
+/// A key of `v` whose unsigned order is the order of the floats (−∞ lowest, NaN above +∞).
+fn order_key(v: f32) -> u32 {
+    let b = v.to_bits();
+    if b & 0x8000_0000 != 0 {
+        !b
+    } else {
+        b | 0x8000_0000
+    }
+}
+
+/// The float of an [`order_key`].
+fn from_order_key(key: u32) -> f32 {
+    if key & 0x8000_0000 != 0 {
+        f32::from_bits(key & 0x7fff_ffff)
+    } else {
+        f32::from_bits(!key)
     }
 }
 
@@ -386,6 +496,78 @@ mod tests {
             recompute_near(&src, &mut dilated, w, &t_changed, steps * size, &mut scratch,
                 |v, ww, s| dilate_in_place(v, ww, s, size, steps));
             prop_assert_eq!(dilated, dilate_all(&eroded));
+        }
+    }
+
+    proptest! {
+        /// The order keys sort as the floats do, and give the floats back.
+        #[test]
+        fn order_keys_sort_as_the_floats(a in proptest::num::f32::ANY, b in proptest::num::f32::ANY) {
+            prop_assert_eq!(from_order_key(order_key(a)).to_bits(), a.to_bits());
+            if let Some(o) = a.partial_cmp(&b).filter(|_| a != 0.0 || b != 0.0) {
+                prop_assert_eq!(order_key(a).cmp(&order_key(b)), o);
+            }
+        }
+    }
+
+    proptest! {
+        /// Classes kept between classifications, while the prototypes move (so that budgets
+        /// run out), descriptors change, cells lose their descriptor and new cells are
+        /// described, are the nearest prototype of every described cell.
+        #[test]
+        fn kept_classes_are_the_nearest_prototypes(
+            seed in 0u64..1000,
+            steps in proptest::collection::vec(
+                (proptest::collection::vec((0usize..40, 0.0f64..1.0, 0.0f64..1.0), 0..6),
+                 proptest::collection::vec((0.0f64..1.0, 0.0f64..1.0), 1..30)),
+                1..10,
+            ),
+        ) {
+            use crate::igng::IgngParams;
+            use strider_core::Cell;
+            let rect = CellRect::new(Cell::new(0, 0), 8, 5);
+            let mut desc = DescriptorField::empty(rect, 2);
+            let mut state = seed;
+            let mut next = || {
+                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                (state >> 11) as f64 / (1u64 << 53) as f64
+            };
+            // The first half described now, the rest as the steps go.
+            for k in 0..20 {
+                desc.set(rect.cell(k), &[next(), next()]);
+            }
+            let mut params = IgngParams::with_sigma(0.25);
+            params.eps_winner = 0.3;
+            params.eps_neighbour = 0.05;
+            let mut igng = Igng::new(2, params, seed).unwrap();
+            let corners = [0.1, 0.1, 0.9, 0.1, 0.1, 0.9, 0.9, 0.9, 0.5, 0.5];
+            igng.train(&corners[..], 1).unwrap();
+            let mut raw = RawClasses::default();
+            raw.reset(desc.storage().len());
+            for (n, (edits, samples)) in steps.into_iter().enumerate() {
+                for (k, x, y) in edits {
+                    let v = if x < 0.1 { [f64::NAN, 0.0] } else { [x, y] };
+                    desc.set(rect.cell(k), &v);
+                }
+                for k in 20 + 2 * n..(22 + 2 * n).min(40) {
+                    desc.set(rect.cell(k), &[next(), next()]);
+                }
+                let support = desc.described_indices().to_vec();
+                raw.classify(&desc, &igng, &support);
+                for &k in &support {
+                    let x = desc.get_stored(k as usize).unwrap();
+                    let (c, d1, d2) = igng.nearest_two(x).unwrap();
+                    if d2 - d1 > 1e-6 {
+                        prop_assert_eq!(raw.raw[k as usize], TerrainCell::Class(c));
+                    }
+                }
+                // Move the prototypes: samples near them, within σ (no new class).
+                for (x, y) in samples {
+                    let protos: Vec<Vec<f64>> = igng.prototypes().map(|(_, w)| w.to_vec()).collect();
+                    let w = &protos[(x * protos.len() as f64) as usize % protos.len()];
+                    let _ = igng.adapt(&[w[0] + 0.2 * (y - 0.5), w[1] + 0.2 * (x - 0.5)]);
+                }
+            }
         }
     }
 
