@@ -62,47 +62,74 @@ pub(super) struct ClassSummary {
 
 impl ClassStats {
     /// Brings the statistics to the class map `classes` (eroded, laid out on the field's
-    /// storage rectangle) and the descriptors of `desc`.
-    pub(super) fn sync(&mut self, desc: &DescriptorField, classes: &[TerrainCell]) {
+    /// storage rectangle) and the descriptors of `desc`. `touched`: the storage cells whose
+    /// class may have changed since the last sync (`None`: any cell), so that only those, the
+    /// cells whose descriptor changed and the newly described ones are read.
+    pub(super) fn sync(
+        &mut self,
+        desc: &DescriptorField,
+        classes: &[TerrainCell],
+        touched: Option<&[u32]>,
+    ) {
         let store = desc.storage();
         let shaped = self.store == store
             && self.dim == desc.dim()
             && self.member.len() == store.len()
             && classes.len() == store.len();
-        let Some(changes) = self
+        let Some((changes, added)) = self
             .seen
             .filter(|_| shaped)
-            .and_then(|s| desc.changes_since(s))
+            .and_then(|s| Some((desc.changes_since(s)?, desc.added_since(s)?)))
         else {
             self.recount(desc, classes);
             return;
         };
         // The log holds the descriptors these cells had at the last sync.
+        let mut redo: Vec<u32> = Vec::new();
         for (n, old) in changes {
             if let Some(t) = self.member.get(n).copied().filter(|&t| t != NONE) {
                 self.remove(t, old);
                 self.member[n] = NONE;
             }
+            redo.push(n as u32);
         }
-        for &k in desc.described_indices() {
-            let k = k as usize;
-            let want = class_of(classes[k]);
-            let have = self.member[k];
-            if have == want {
-                continue;
+        match touched {
+            Some(touched) => {
+                redo.extend_from_slice(added);
+                redo.extend_from_slice(touched);
+                for k in redo {
+                    self.follow_class(desc, classes, k as usize);
+                }
             }
-            let Some(x) = desc.get_stored(k) else {
-                continue;
-            };
-            if have != NONE {
-                self.remove(have, x);
+            None => {
+                for &k in desc.described_indices() {
+                    self.follow_class(desc, classes, k as usize);
+                }
             }
-            if want != NONE {
-                self.add(want, x);
-            }
-            self.member[k] = want;
         }
         self.seen = Some(desc.version());
+    }
+
+    /// Counts storage cell `k` in its class of `classes` if it is described (and in none
+    /// otherwise).
+    fn follow_class(&mut self, desc: &DescriptorField, classes: &[TerrainCell], k: usize) {
+        let Some(x) = desc.get_stored(k) else {
+            return;
+        };
+        let (Some(&have), Some(&c)) = (self.member.get(k), classes.get(k)) else {
+            return;
+        };
+        let want = class_of(c);
+        if have == want {
+            return;
+        }
+        if have != NONE {
+            self.remove(have, x);
+        }
+        if want != NONE {
+            self.add(want, x);
+        }
+        self.member[k] = want;
     }
 
     /// Counts every described cell again.
@@ -277,7 +304,8 @@ mod tests {
             let store = desc.storage();
             let mut classes = vec![TerrainCell::Unknown; store.len()];
             let mut stats = ClassStats::default();
-            for batch in batches {
+            for (b, batch) in batches.into_iter().enumerate() {
+                let mut touched = Vec::new();
                 for s in batch {
                     match s {
                         Step::Describe(k, v) => {
@@ -286,6 +314,7 @@ mod tests {
                         }
                         Step::Classify(k, t) => {
                             let k = store.index(rect.cell(k)).unwrap();
+                            touched.push(k as u32);
                             classes[k] = if t == 0 {
                                 TerrainCell::Eroded
                             } else {
@@ -294,7 +323,8 @@ mod tests {
                         }
                     }
                 }
-                stats.sync(&desc, &classes);
+                // Every other sync is told which cells changed class.
+                stats.sync(&desc, &classes, (b % 2 == 0).then_some(&touched[..]));
                 prop_assert_eq!(stats.summaries(), fresh(&desc, &classes));
             }
         }
@@ -316,7 +346,7 @@ mod tests {
                 desc.set(c, &[x, -f64::from(v) * 0.25]);
                 let k = store.index(c).unwrap();
                 classes[k] = TerrainCell::Class(ClassId(u32::from(t)));
-                stats.sync(&desc, &classes);
+                stats.sync(&desc, &classes, Some(&[k as u32]));
                 prop_assert_eq!(stats.summaries(), fresh(&desc, &classes));
             }
         }

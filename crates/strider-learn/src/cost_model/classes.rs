@@ -53,6 +53,7 @@ impl GaitCostModel {
             }
             morphology::erode_in_place(&mut self.learn_class, w, &self.support, steps);
             self.learn_changed = None;
+            self.class_touched = None;
         } else {
             let changed = class_map::recompute_near(
                 &self.raw.raw,
@@ -63,6 +64,9 @@ impl GaitCostModel {
                 &mut self.window,
                 |v, ww, s| morphology::erode_in_place(v, ww, s, steps),
             );
+            if let Some(t) = &mut self.class_touched {
+                t.extend_from_slice(&changed);
+            }
             self.learn_changed = Some(changed);
         }
         Ok(())
@@ -114,7 +118,9 @@ impl GaitCostModel {
     /// prediction at its median descriptor (information gain filled in by the caller). The
     /// counts and medians come from the statistics kept in step with the class map.
     fn class_table(&mut self, desc: &DescriptorField) -> Vec<ClassInfo> {
-        self.stats.sync(desc, &self.learn_class);
+        self.stats
+            .sync(desc, &self.learn_class, self.class_touched.as_deref());
+        self.class_touched = Some(Vec::new());
         let mut learning: HashMap<ClassId, usize> = HashMap::default();
         // All of L, also the pairs a bounded regressor no longer trains on.
         for c in self.learning_set(desc) {
@@ -157,6 +163,9 @@ impl GaitCostModel {
                     *s = TerrainCell::Eroded;
                     if let Some(changed) = &mut self.learn_changed {
                         changed.push(k);
+                    }
+                    if let Some(t) = &mut self.class_touched {
+                        t.push(k);
                     }
                 }
             }

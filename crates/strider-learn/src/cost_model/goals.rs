@@ -25,6 +25,7 @@ impl GaitCostModel {
     /// one bootstrap goal holds the lattice sites over admissible cells with no measured cost.
     pub(super) fn bootstrap_update(&mut self) -> ModelUpdate {
         self.raw.invalidate();
+        self.class_touched = None;
         for &k in &self.prev_support {
             self.learn_class[k as usize] = TerrainCell::Unknown;
             self.plan_class[k as usize] = TerrainCell::Unknown;

@@ -118,6 +118,9 @@ pub struct GaitCostModel {
     /// Cells of `learn_class` changed in this update, for the dilation near them; `None`
     /// after a full classification (dilate everywhere).
     learn_changed: Option<Vec<u32>>,
+    /// Cells of `learn_class` changed since the class statistics last followed it; `None`:
+    /// any cell may have (they read every cell).
+    class_touched: Option<Vec<u32>>,
     /// Window buffer of the recomputations near changes.
     window: Vec<TerrainCell>,
     /// Per storage cell: has a measured cost; the first `mask_applied` cells of `measured`
@@ -190,6 +193,7 @@ impl GaitCostModel {
             prev_support: Vec::new(),
             raw: class_map::RawClasses::default(),
             learn_changed: None,
+            class_touched: None,
             window: Vec::new(),
             measured_mask: Vec::new(),
             mask_applied: 0,
@@ -359,6 +363,7 @@ impl GaitCostModel {
         if out.is_err() {
             // The class maps may be half done: the next update starts them over.
             self.raw.invalidate();
+            self.class_touched = None;
         }
         out
     }
@@ -405,6 +410,7 @@ impl GaitCostModel {
             self.measured_mask = vec![false; store.len()];
             self.mask_applied = 0;
             self.raw.reset(store.len());
+            self.class_touched = None;
             self.support.clear();
         }
         std::mem::swap(&mut self.prev_support, &mut self.support);
