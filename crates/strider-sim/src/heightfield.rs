@@ -15,6 +15,18 @@
 //! highest column of the world, and a ray that stays above the highest column of an 8 × 8 block
 //! of cells until it leaves the block jumps past it (re-entering the traversal at the block's
 //! far side). The hit is the one of the plain cell-by-cell traversal; a test compares the two.
+//!
+//! The rays of an omnidirectional sensor's azimuth column share one horizontal direction; they
+//! are cast together by [`Heightfield::cast_column`] (module `columns`), which gives every ray
+//! the hit of [`Heightfield::cast_unit`] bit for bit, for less than casting them one by one.
+
+mod coast;
+mod columns;
+mod line_proof;
+mod side_hit;
+mod stations;
+
+use std::sync::OnceLock;
 
 use strider_core::{Cell, CellRect, Point2, Point3};
 use strider_scenario::World;
@@ -60,6 +72,9 @@ pub struct Heightfield {
     block_max: Vec<f64>,
     /// Blocks per row.
     blocks_w: usize,
+    /// Highest elevation of each cell's 3 × 3 neighbourhood on the rectangle grown by one cell on
+    /// every side, built by the first [`Heightfield::cast_column`].
+    near_max: OnceLock<stations::Near>,
 }
 
 /// Side of the blocks of [`Heightfield`]'s coarse maximum, cells. A ray passing above a block's
@@ -115,6 +130,7 @@ impl Heightfield {
             max_elevation,
             block_max,
             blocks_w,
+            near_max: OnceLock::new(),
         })
     }
 
@@ -316,15 +332,7 @@ impl<'a> Walk<'a> {
         // The first cell: the one the ray is inside just after t0.
         let ix = start_index_at(ox, ux, t0, d, w);
         let iy = start_index_at(oy, uy, t0, d, h);
-        let entry = if skipped {
-            Entry::Start
-        } else if t0 > 0.0 && enter[0] >= enter[1] {
-            Entry::X(if ux > 0.0 { 0.0 } else { ww })
-        } else if t0 > 0.0 {
-            Entry::Y(if uy > 0.0 { 0.0 } else { hh })
-        } else {
-            Entry::Start
-        };
+        let entry = start_entry(skipped, t0, enter, [ux, uy], [ww, hh]);
         // A ray brought down to the highest column's top by the skip is already where the
         // terrain can begin (most of a downward camera's rays over open ground): its first
         // block is not tested, only the blocks it enters later.
@@ -637,6 +645,22 @@ fn skip_to_top(oz: f64, uz: f64, z_max: f64, t0: f64) -> (f64, bool) {
         f64::NEG_INFINITY
     };
     (t0.max(t_top), t_top > t0)
+}
+
+/// How a ray enters the cell its walk starts in at distance `t0`: through the world's border
+/// it enters by (slab entry times `enter`, direction `u`, world extent `extent`), or not at all
+/// when it starts inside the world or was brought down by the top skip.
+#[inline]
+fn start_entry(skipped: bool, t0: f64, enter: [f64; 2], u: [f64; 2], extent: [f64; 2]) -> Entry {
+    if skipped {
+        Entry::Start
+    } else if t0 > 0.0 && enter[0] >= enter[1] {
+        Entry::X(if u[0] > 0.0 { 0.0 } else { extent[0] })
+    } else if t0 > 0.0 {
+        Entry::Y(if u[1] > 0.0 { 0.0 } else { extent[1] })
+    } else {
+        Entry::Start
+    }
 }
 
 /// The first index along one axis past block `b` for a ray stepping `s`, if inside `0..n`.
