@@ -15,6 +15,18 @@
 //! highest column of the world, and a ray that stays above the highest column of an 8 × 8 block
 //! of cells until it leaves the block jumps past it (re-entering the traversal at the block's
 //! far side). The hit is the one of the plain cell-by-cell traversal; a test compares the two.
+//!
+//! The rays of an omnidirectional sensor's azimuth column share one horizontal direction; they
+//! are cast together by [`Heightfield::cast_column`] (module `columns`), which gives every ray
+//! the hit of [`Heightfield::cast_unit`] bit for bit, for less than casting them one by one.
+
+mod coast;
+mod columns;
+mod line_proof;
+mod side_hit;
+mod stations;
+
+use std::sync::OnceLock;
 
 use strider_core::{Cell, CellRect, Point2, Point3};
 use strider_scenario::World;
@@ -60,6 +72,9 @@ pub struct Heightfield {
     block_max: Vec<f64>,
     /// Blocks per row.
     blocks_w: usize,
+    /// Highest elevation of each cell's 3 × 3 neighbourhood on the rectangle grown by one cell on
+    /// every side, built by the first [`Heightfield::cast_column`].
+    near_max: OnceLock<stations::Near>,
 }
 
 /// Side of the blocks of [`Heightfield`]'s coarse maximum, cells. A ray passing above a block's
@@ -115,6 +130,7 @@ impl Heightfield {
             max_elevation,
             block_max,
             blocks_w,
+            near_max: OnceLock::new(),
         })
     }
 
@@ -165,21 +181,7 @@ impl Heightfield {
 
     /// [`Self::cast`] for a unit direction (not checked).
     pub fn cast_unit(&self, origin: Point3, u: [f64; 3], max_range: f64) -> Option<RayHit> {
-        let mut walk = Walk::start(self, origin, u, max_range)?;
-        loop {
-            if walk.enters_new_block() {
-                match walk.pass_over_block() {
-                    Block::Inside => {}
-                    Block::Passed => continue,
-                    Block::Miss => return None,
-                }
-            }
-            match walk.cross_cell() {
-                Crossing::Hit(hit) => return Some(hit),
-                Crossing::Miss => return None,
-                Crossing::Next => {}
-            }
-        }
+        Walk::start(self, origin, u, max_range)?.run()
     }
 
     /// Line of sight: true when the straight segment from `from` to `to` meets no terrain before
@@ -244,13 +246,12 @@ enum Crossing {
     Next,
 }
 
-/// What a ray does in a block it enters.
+/// What a ray does from a block it enters.
 enum Block {
-    /// It may meet a column: walk its cells.
+    /// It may meet a column of the current block (possibly after passing over blocks): walk
+    /// its cells.
     Inside,
-    /// It stays above the block's highest column and was moved past the block.
-    Passed,
-    /// It meets nothing any more (leaves the world or its range above the block, or climbs
+    /// It meets nothing any more (leaves the world or its range above a block, or climbs
     /// above every column).
     Miss,
 }
@@ -331,15 +332,7 @@ impl<'a> Walk<'a> {
         // The first cell: the one the ray is inside just after t0.
         let ix = start_index_at(ox, ux, t0, d, w);
         let iy = start_index_at(oy, uy, t0, d, h);
-        let entry = if skipped {
-            Entry::Start
-        } else if t0 > 0.0 && enter[0] >= enter[1] {
-            Entry::X(if ux > 0.0 { 0.0 } else { ww })
-        } else if t0 > 0.0 {
-            Entry::Y(if uy > 0.0 { 0.0 } else { hh })
-        } else {
-            Entry::Start
-        };
+        let entry = start_entry(skipped, t0, enter, [ux, uy], [ww, hh]);
         // A ray brought down to the highest column's top by the skip is already where the
         // terrain can begin (most of a downward camera's rays over open ground): its first
         // block is not tested, only the blocks it enters later.
@@ -414,6 +407,32 @@ impl<'a> Walk<'a> {
         };
     }
 
+    /// Walks on from the current cell to the first surface met.
+    #[inline(always)]
+    fn run(&mut self) -> Option<RayHit> {
+        loop {
+            self.enter_block()?;
+            match self.cross_cell() {
+                Crossing::Hit(hit) => return Some(hit),
+                Crossing::Miss => return None,
+                Crossing::Next => {}
+            }
+        }
+    }
+
+    /// The block test before each cell, which may move the walk past blocks; `None` when the
+    /// ray meets nothing any more.
+    #[inline(always)]
+    fn enter_block(&mut self) -> Option<()> {
+        if self.enters_new_block() {
+            match self.pass_over_blocks() {
+                Block::Inside => {}
+                Block::Miss => return None,
+            }
+        }
+        Some(())
+    }
+
     /// True (and remembers the block) when the current cell lies in another block than the
     /// previous one.
     #[inline]
@@ -424,74 +443,76 @@ impl<'a> Walk<'a> {
         new
     }
 
-    /// In a block just entered: if the ray stays above the block's highest column until it
-    /// leaves the block, moves it to the first cell past the block.
+    /// In a block just entered: while the ray stays above the highest column of the block it
+    /// is in until it leaves it, moves on to the next block (one step per block), then sets
+    /// the walk in the first cell past the last block passed. The cell is only needed there:
+    /// a block passed is left through a face, so the next block follows from the block alone.
     #[inline]
-    fn pass_over_block(&mut self) -> Block {
-        let block = self.block;
-        let bmax = self.hf.block_max[block.1 as usize * self.hf.blocks_w + block.0 as usize];
-        let exit_time = |b: i64, o: f64, v: f64, r: f64| {
-            let edge = if v > 0.0 { (b + 1) * BLOCK } else { b * BLOCK };
-            if v != 0.0 {
-                (edge as f64 * self.d - o) * r
-            } else {
-                f64::INFINITY
+    fn pass_over_blocks(&mut self) -> Block {
+        let mut last_pass = None;
+        loop {
+            let block = self.block;
+            let bmax = self.hf.block_max[block.1 as usize * self.hf.blocks_w + block.0 as usize];
+            let exit_time = |b: i64, o: f64, v: f64, r: f64| {
+                let edge = if v > 0.0 { (b + 1) * BLOCK } else { b * BLOCK };
+                if v != 0.0 {
+                    (edge as f64 * self.d - o) * r
+                } else {
+                    f64::INFINITY
+                }
+            };
+            let (tbx, tby) = (
+                exit_time(block.0, self.ox, self.ux, self.rx),
+                exit_time(block.1, self.oy, self.uy, self.ry),
+            );
+            let t_exit = tbx.min(tby).min(self.t1);
+            let (oz, uz) = (self.oz, self.uz);
+            let z_low = oz + uz * if uz < 0.0 { t_exit } else { self.t_in };
+            let above = z_low > bmax;
+            if !above {
+                break;
             }
-        };
-        let (tbx, tby) = (
-            exit_time(block.0, self.ox, self.ux, self.rx),
-            exit_time(block.1, self.oy, self.uy, self.ry),
-        );
-        let t_exit = tbx.min(tby).min(self.t1);
-        let (oz, uz) = (self.oz, self.uz);
-        let z_low = oz + uz * if uz < 0.0 { t_exit } else { self.t_in };
-        if z_low > bmax {
-            self.pass_to(t_exit, tbx <= tby)
-        } else {
-            Block::Inside
+            if t_exit >= self.t1 || (uz >= 0.0 && oz + uz * self.t_in >= self.hf.max_elevation) {
+                return Block::Miss;
+            }
+            // Out through the face the ray leaves by (x on a tie, as the cell traversal does).
+            self.t_in = t_exit;
+            let through_x = tbx <= tby;
+            let past = if through_x {
+                first_past_block(block.0, self.sx, self.w)
+            } else {
+                first_past_block(block.1, self.sy, self.h)
+            };
+            let Some(past) = past else {
+                return Block::Miss;
+            };
+            self.block = if through_x {
+                (past >> BLOCK_SHIFT, block.1)
+            } else {
+                (block.0, past >> BLOCK_SHIFT)
+            };
+            last_pass = Some((block, through_x, past));
         }
+        if let Some((block, through_x, past)) = last_pass {
+            self.step_out(block, through_x, past);
+        }
+        Block::Inside
     }
 
-    /// Moves a ray that flies above the current block to the first cell past it, leaving at
-    /// distance `t_exit` through its x face (else its y face).
+    /// Sets the walk in cell `past` (along the exit axis) past block `block`, left through its
+    /// x face (else its y face) at distance `t_in`: the other index follows the exit point.
     #[inline]
-    fn pass_to(&mut self, t_exit: f64, through_x: bool) -> Block {
-        let block = self.block;
-        let (oz, uz) = (self.oz, self.uz);
-        if t_exit >= self.t1 || (uz >= 0.0 && oz + uz * self.t_in >= self.hf.max_elevation) {
-            return Block::Miss;
-        }
-        // Step out through the face the ray leaves by (x on a tie, as the cell traversal
-        // does); the other index follows the exit point.
-        self.t_in = t_exit;
-        let stepped = if through_x {
-            self.step_out_x(block)
+    fn step_out(&mut self, block: (i64, i64), through_x: bool, past: i64) {
+        if through_x {
+            self.ix = past;
+            self.iy = self.index_in_block(self.oy, self.uy, block.1, self.h);
+            self.entry = Entry::X(self.boundary(past - self.sx, self.sx));
         } else {
-            self.step_out_y(block)
-        };
-        if stepped.is_none() {
-            return Block::Miss;
+            self.iy = past;
+            self.ix = self.index_in_block(self.ox, self.ux, block.0, self.w);
+            self.entry = Entry::Y(self.boundary(past - self.sy, self.sy));
         }
         self.aim_at_next_boundaries();
-        Block::Passed
-    }
-
-    /// Leaves block `block` through its x face (`None`: the ray leaves the world).
-    #[inline]
-    fn step_out_x(&mut self, block: (i64, i64)) -> Option<()> {
-        self.ix = first_past_block(block.0, self.sx, self.w)?;
-        self.iy = self.index_in_block(self.oy, self.uy, block.1, self.h);
-        self.entry = Entry::X(self.boundary(self.ix - self.sx, self.sx));
-        Some(())
-    }
-
-    /// Leaves block `block` through its y face (`None`: the ray leaves the world).
-    #[inline]
-    fn step_out_y(&mut self, block: (i64, i64)) -> Option<()> {
-        self.iy = first_past_block(block.1, self.sy, self.h)?;
-        self.ix = self.index_in_block(self.ox, self.ux, block.0, self.w);
-        self.entry = Entry::Y(self.boundary(self.iy - self.sy, self.sy));
-        Some(())
     }
 
     /// The index along one axis at the exit point (distance `t_in`), kept in block `b`'s span.
@@ -524,11 +545,22 @@ impl<'a> Walk<'a> {
         } else if z_in >= self.hf.max_elevation {
             return Crossing::Miss;
         }
+        if self.advance(t_out) {
+            Crossing::Next
+        } else {
+            Crossing::Miss
+        }
+    }
+
+    /// Leaves the current cell at distance `t_out` for the next one; false when the ray leaves
+    /// its range or the world instead.
+    #[inline(always)]
+    fn advance(&mut self, t_out: f64) -> bool {
         if t_out >= self.t1 {
-            return Crossing::Miss;
+            return false;
         }
         self.t_in = t_out;
-        let inside = if self.tx <= self.ty {
+        if self.tx <= self.ty {
             self.ix += self.sx;
             self.entry = Entry::X(self.boundary(self.ix - self.sx, self.sx));
             self.tx += self.tdx;
@@ -538,11 +570,6 @@ impl<'a> Walk<'a> {
             self.entry = Entry::Y(self.boundary(self.iy - self.sy, self.sy));
             self.ty += self.tdy;
             self.iy >= 0 && self.iy < self.h
-        };
-        if inside {
-            Crossing::Next
-        } else {
-            Crossing::Miss
         }
     }
 
@@ -618,6 +645,22 @@ fn skip_to_top(oz: f64, uz: f64, z_max: f64, t0: f64) -> (f64, bool) {
         f64::NEG_INFINITY
     };
     (t0.max(t_top), t_top > t0)
+}
+
+/// How a ray enters the cell its walk starts in at distance `t0`: through the world's border
+/// it enters by (slab entry times `enter`, direction `u`, world extent `extent`), or not at all
+/// when it starts inside the world or was brought down by the top skip.
+#[inline]
+fn start_entry(skipped: bool, t0: f64, enter: [f64; 2], u: [f64; 2], extent: [f64; 2]) -> Entry {
+    if skipped {
+        Entry::Start
+    } else if t0 > 0.0 && enter[0] >= enter[1] {
+        Entry::X(if u[0] > 0.0 { 0.0 } else { extent[0] })
+    } else if t0 > 0.0 {
+        Entry::Y(if u[1] > 0.0 { 0.0 } else { extent[1] })
+    } else {
+        Entry::Start
+    }
 }
 
 /// The first index along one axis past block `b` for a ray stepping `s`, if inside `0..n`.

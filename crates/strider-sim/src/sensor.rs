@@ -13,8 +13,10 @@
 //! Gaussian noise of σ_c (0–255 scale), rounded and clamped. Only hits within the sensor's range
 //! (true range) are returned, in the world frame, with the cloud's `origin` at the sensor.
 //!
-//! **Determinism.** Rays are cast in parallel (rayon) over fixed chunks of [`RAYS_PER_CHUNK`] rays;
-//! each chunk draws its noise from its own ChaCha8 stream keyed by (simulation seed, scan counter,
+//! **Determinism.** Rays are cast in parallel (rayon): a camera's over fixed chunks of
+//! [`RAYS_PER_CHUNK`] rays, an omnidirectional sensor's by azimuth column
+//! ([`Heightfield::cast_column`], each ray's hit exactly as if cast alone). Each chunk of rays, in
+//! ray order, draws its noise from its own ChaCha8 stream keyed by (simulation seed, scan counter,
 //! chunk index), so a scan is bit-identical whatever the thread count.
 
 use rand::RngExt;
@@ -166,6 +168,10 @@ impl RangeSensor {
     /// range gives a noisy coloured point (`colors`: one colour per world cell, row-major).
     /// `seed` and `scan_index` key the noise streams. The cloud's `sensor` index is 0; the
     /// [`crate::Simulator`] sets it to the sensor's place in the profile.
+    ///
+    /// An omnidirectional sensor casts each azimuth column at once
+    /// ([`Heightfield::cast_column`]); the cloud is the same as when every ray is cast on its
+    /// own ([`Self::scan_ray_by_ray`]).
     #[allow(clippy::too_many_arguments)]
     pub fn scan(
         &self,
@@ -178,8 +184,38 @@ impl RangeSensor {
         seed: u64,
         scan_index: u64,
     ) -> PointCloud {
-        let (sy, cy) = yaw.sin_cos();
-        let range = self.spec.range;
+        let ctx = Scan::new(hf, colors, origin, yaw, self.spec.range, noise);
+        let points = match self.spec.kind {
+            SensorKind::Omni { columns, rows, .. } => {
+                self.points_by_column(&ctx, columns as usize, rows as usize, seed, scan_index)
+            }
+            SensorKind::RgbD { .. } => self.points_by_ray(&ctx, seed, scan_index),
+        };
+        ctx.cloud(stamp, points)
+    }
+
+    /// [`Self::scan`] casting every ray on its own ([`Heightfield::cast_unit`]): the reference
+    /// of the column casting, for tests and benchmarks.
+    #[doc(hidden)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn scan_ray_by_ray(
+        &self,
+        hf: &Heightfield,
+        colors: &[Rgb8],
+        origin: Point3,
+        yaw: f64,
+        noise: &ScanNoise,
+        stamp: f64,
+        seed: u64,
+        scan_index: u64,
+    ) -> PointCloud {
+        let ctx = Scan::new(hf, colors, origin, yaw, self.spec.range, noise);
+        let points = self.points_by_ray(&ctx, seed, scan_index);
+        ctx.cloud(stamp, points)
+    }
+
+    /// The points of a scan, each ray cast on its own, chunk by chunk.
+    fn points_by_ray(&self, ctx: &Scan, seed: u64, scan_index: u64) -> Vec<ColoredPoint> {
         let chunks: Vec<Vec<ColoredPoint>> = self
             .dirs
             .par_chunks(RAYS_PER_CHUNK)
@@ -187,34 +223,124 @@ impl RangeSensor {
             .map(|(ci, dirs)| {
                 let mut rng = stream(seed, &[key::SCAN, scan_index, ci as u64]);
                 let mut out = Vec::with_capacity(dirs.len());
-                for b in dirs {
-                    let u = [b[0] * cy - b[1] * sy, b[0] * sy + b[1] * cy, b[2]];
-                    let Some(hit) = hf.cast_unit(origin, u, range) else {
-                        continue;
-                    };
-                    out.push(noisy_point(
-                        &mut rng,
-                        noise,
-                        origin,
-                        u,
-                        hit.range,
-                        colors.get(hit.index).copied().unwrap_or_default(),
-                    ));
+                for &b in dirs {
+                    let u = ctx.world_dir(b);
+                    if let Some(hit) = ctx.hf.cast_unit(ctx.origin, u, ctx.range) {
+                        out.push(ctx.point(&mut rng, u, hit.range, hit.index));
+                    }
                 }
                 out
             })
             .collect();
-        let mut points = Vec::with_capacity(chunks.iter().map(Vec::len).sum());
-        for c in chunks {
-            points.extend_from_slice(&c);
+        concat(chunks)
+    }
+
+    /// The points of an omnidirectional scan of `columns × rows` rays (row-major): the hits of
+    /// each azimuth column cast at once, then the noise drawn chunk by chunk in ray order, as
+    /// [`Self::points_by_ray`] draws it.
+    fn points_by_column(
+        &self,
+        ctx: &Scan,
+        columns: usize,
+        rows: usize,
+        seed: u64,
+        scan_index: u64,
+    ) -> Vec<ColoredPoint> {
+        // Range and cell index of each ray's hit, column-major.
+        let mut hits: Vec<Option<(f64, usize)>> = vec![None; self.dirs.len()];
+        hits.par_chunks_mut(rows).enumerate().for_each_init(
+            || (Vec::with_capacity(rows), Vec::with_capacity(rows)),
+            |(dirs, column), (c, out)| {
+                dirs.clear();
+                dirs.extend((0..rows).map(|r| ctx.world_dir(self.dirs[r * columns + c])));
+                ctx.hf.cast_column(ctx.origin, dirs, ctx.range, column);
+                for (o, hit) in out.iter_mut().zip(column.iter()) {
+                    *o = hit.map(|h| (h.range, h.index));
+                }
+            },
+        );
+        let chunks: Vec<Vec<ColoredPoint>> = (0..self.dirs.len().div_ceil(RAYS_PER_CHUNK))
+            .into_par_iter()
+            .map(|ci| {
+                let mut rng = stream(seed, &[key::SCAN, scan_index, ci as u64]);
+                let rays = ci * RAYS_PER_CHUNK..((ci + 1) * RAYS_PER_CHUNK).min(self.dirs.len());
+                let mut out = Vec::with_capacity(rays.len());
+                for i in rays {
+                    if let Some((range, index)) = hits[(i % columns) * rows + i / columns] {
+                        out.push(ctx.point(&mut rng, ctx.world_dir(self.dirs[i]), range, index));
+                    }
+                }
+                out
+            })
+            .collect();
+        concat(chunks)
+    }
+}
+
+/// What every ray of one scan shares.
+struct Scan<'a> {
+    hf: &'a Heightfield,
+    colors: &'a [Rgb8],
+    origin: Point3,
+    /// Sine and cosine of the robot's heading.
+    sy: f64,
+    cy: f64,
+    range: f64,
+    noise: &'a ScanNoise,
+}
+
+impl<'a> Scan<'a> {
+    fn new(
+        hf: &'a Heightfield,
+        colors: &'a [Rgb8],
+        origin: Point3,
+        yaw: f64,
+        range: f64,
+        noise: &'a ScanNoise,
+    ) -> Self {
+        let (sy, cy) = yaw.sin_cos();
+        Self {
+            hf,
+            colors,
+            origin,
+            sy,
+            cy,
+            range,
+            noise,
         }
+    }
+
+    /// The world-frame direction of body-frame ray `b`.
+    #[inline]
+    fn world_dir(&self, b: [f64; 3]) -> [f64; 3] {
+        let (sy, cy) = (self.sy, self.cy);
+        [b[0] * cy - b[1] * sy, b[0] * sy + b[1] * cy, b[2]]
+    }
+
+    /// The noisy point of a hit at true range `r` in cell `index` along `u`.
+    #[inline]
+    fn point(&self, rng: &mut ChaCha8Rng, u: [f64; 3], r: f64, index: usize) -> ColoredPoint {
+        let color = self.colors.get(index).copied().unwrap_or_default();
+        noisy_point(rng, self.noise, self.origin, u, r, color)
+    }
+
+    fn cloud(&self, stamp: f64, points: Vec<ColoredPoint>) -> PointCloud {
         PointCloud {
             stamp,
-            origin,
+            origin: self.origin,
             points,
             ..PointCloud::default()
         }
     }
+}
+
+/// The points of all chunks, in chunk order.
+fn concat(chunks: Vec<Vec<ColoredPoint>>) -> Vec<ColoredPoint> {
+    let mut points = Vec::with_capacity(chunks.iter().map(Vec::len).sum());
+    for c in chunks {
+        points.extend_from_slice(&c);
+    }
+    points
 }
 
 /// The rays of a pinhole camera, body frame: one through the centre of each pixel of a
