@@ -349,11 +349,14 @@ pub fn window_around(robot: Cell, goals: &[TourGoal], margin: u32) -> CellRect {
 }
 
 /// The goals within the tour's horizon and the committed goal's index among them: all of
-/// `goals` when their sites number at most `max_sites` (or there is no bound); else whole goals
-/// by the straight-line distance of their nearest site from `robot` (ties by index), the
-/// committed goal `first` before all, while their sites fit (at least one goal). A goal beyond
-/// the horizon waits until the robot comes nearer; the next replan's horizon moves with it.
-/// The result borrows `goals` exactly when it holds all of them.
+/// `goals` when their sites number at most `max_sites` (or there is no bound); else the
+/// `max_sites` sites nearest to `robot` in a straight line (ties by goal, then site index),
+/// the committed goal `first`'s sites before all, grouped by their goal (at least one site).
+/// A goal keeps only its sites within the horizon: the tour visits one site per goal, and a
+/// goal's far sites would spread the planning window over the map. A goal without a site
+/// within the horizon waits until the robot comes nearer; the next replan's horizon moves
+/// with it. The goals keep their order; the result borrows `goals` exactly when it holds all
+/// of them.
 pub fn horizon(
     goals: &[TourGoal],
     robot: Cell,
@@ -364,33 +367,60 @@ pub fn horizon(
     let Some(max_sites) = max_sites.filter(|&m| total > m) else {
         return (Cow::Borrowed(goals), first);
     };
-    let nearest = |g: &TourGoal| {
-        g.sites
-            .iter()
-            .map(|&s| s.dist_cells(robot))
-            .fold(f64::INFINITY, f64::min)
-    };
-    let mut by_distance: Vec<(bool, f64, usize)> = goals
+    // (not the committed goal, distance, goal, site) of every site, nearest first.
+    let mut by_distance: Vec<(bool, f64, usize, usize)> = goals
         .iter()
         .enumerate()
-        .map(|(i, g)| (first != Some(i), nearest(g), i))
+        .flat_map(|(g, goal)| {
+            goal.sites
+                .iter()
+                .enumerate()
+                .map(move |(k, &s)| (first != Some(g), s.dist_cells(robot), g, k))
+        })
         .collect();
-    by_distance.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
-    let mut kept = Vec::new();
-    let mut sites = 0;
-    let mut kept_first = None;
-    for (_, _, i) in by_distance {
-        let n = goals[i].sites.len();
-        if !kept.is_empty() && sites + n > max_sites {
+    by_distance.sort_by(|a, b| {
+        a.0.cmp(&b.0)
+            .then(a.1.total_cmp(&b.1))
+            .then(a.2.cmp(&b.2))
+            .then(a.3.cmp(&b.3))
+    });
+    let mut kept: Vec<Vec<bool>> = goals.iter().map(|g| vec![false; g.sites.len()]).collect();
+    for &(_, _, g, k) in by_distance.iter().take(max_sites.max(1)) {
+        kept[g][k] = true;
+    }
+    let (near, near_first) = retain_sites(goals, first, |g, k, _| kept[g][k]);
+    (Cow::Owned(near), near_first)
+}
+
+/// `goals` with only the sites `keep(goal, site index, site)` accepts, the goals left without a
+/// site dropped, and the index of goal `first` among them (`None` when it was dropped).
+pub fn retain_sites(
+    goals: &[TourGoal],
+    first: Option<usize>,
+    keep: impl Fn(usize, usize, Cell) -> bool,
+) -> (Vec<TourGoal>, Option<usize>) {
+    let mut out = Vec::with_capacity(goals.len());
+    let mut out_first = None;
+    for (g, goal) in goals.iter().enumerate() {
+        let sites: Vec<Cell> = goal
+            .sites
+            .iter()
+            .enumerate()
+            .filter(|&(k, &s)| keep(g, k, s))
+            .map(|(_, &s)| s)
+            .collect();
+        if sites.is_empty() {
             continue;
         }
-        if first == Some(i) {
-            kept_first = Some(kept.len());
+        if first == Some(g) {
+            out_first = Some(out.len());
         }
-        sites += n;
-        kept.push(goals[i].clone());
+        out.push(TourGoal {
+            key: goal.key,
+            sites,
+        });
     }
-    (Cow::Owned(kept), kept_first)
+    (out, out_first)
 }
 
 /// The tour's vertices: the robot (vertex 0) and the sites reachable from it, grouped by goal.

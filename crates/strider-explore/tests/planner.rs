@@ -265,19 +265,31 @@ fn a_bounded_horizon_plans_over_the_nearest_goals_and_keeps_the_committed_one() 
     // Six sites: a bound of six (or more) plans over every goal, as without one.
     let all = plan_tour(&view, robot, &goals, order(false), 1, &[], None).unwrap();
     assert_eq!(bounded(6, None).order, all.order);
-    // Four sites: whole goals by the distance of their nearest site, (8, 5), (9, 9) of the
-    // cost goal, (5, 15); (30, 25) no longer fits.
+    // Four sites: the nearest ones, (8, 5), (9, 9) and (10, 25) of the cost goal, (5, 15);
+    // (30, 25) and (35, 5) no longer fit.
     let near = bounded(4, None);
     assert_eq!(
         keys(&near),
         sorted(vec![goals[1].key, goals[2].key, goals[4].key])
     );
-    // Committed to the farthest goal: it comes first and takes its place in the horizon.
+    // Committed to the farthest goal: it comes first and takes its place in the horizon; the
+    // cost goal keeps only its site within the horizon.
     let committed = bounded(3, Some(0));
     assert_eq!(committed.order[0].0, goals[0].key);
     assert_eq!(
         keys(&committed),
-        sorted(vec![goals[0].key, goals[2].key, goals[4].key])
+        sorted(vec![goals[0].key, goals[1].key, goals[2].key])
+    );
+    let (near, near_first) = horizon(&goals, robot, Some(0), Some(3));
+    assert_eq!(near_first, Some(0));
+    let sites: Vec<Vec<Cell>> = near.iter().map(|g| g.sites.clone()).collect();
+    assert_eq!(
+        sites,
+        vec![
+            vec![Cell::new(35, 5)],
+            vec![Cell::new(9, 9)],
+            vec![Cell::new(8, 5)]
+        ]
     );
     // A horizon smaller than the nearest goal still plans to that goal.
     assert_eq!(keys(&bounded(1, None)), vec![goals[2].key]);
@@ -345,5 +357,69 @@ fn order(greedy: bool) -> TourOrder<'static> {
         TourOrder::CheapestNext
     } else {
         TourOrder::Gtsp(&SOLVER)
+    }
+}
+
+proptest! {
+    /// A bounded horizon keeps the `max_sites` nearest sites (the committed goal's first),
+    /// each with its own goal, the goals in their order, and the committed goal's index.
+    #[test]
+    fn a_bounded_horizon_keeps_the_nearest_sites(
+        sites in proptest::collection::vec(
+            proptest::collection::vec((-20i32..20, -20i32..20), 1..5), 1..8),
+        max_sites in 0usize..12,
+        first in proptest::option::of(0usize..8),
+    ) {
+        let goals: Vec<TourGoal> = sites
+            .iter()
+            .enumerate()
+            .map(|(g, s)| TourGoal {
+                key: GoalKey::Cost { gait: 0, class: g as u32 },
+                sites: s.iter().map(|&(i, j)| Cell::new(i, j)).collect(),
+            })
+            .collect();
+        let first = first.filter(|&f| f < goals.len());
+        let robot = Cell::new(0, 0);
+        let (near, near_first) = horizon(&goals, robot, first, Some(max_sites));
+        let total: usize = goals.iter().map(|g| g.sites.len()).sum();
+        let kept: usize = near.iter().map(|g| g.sites.len()).sum();
+        prop_assert_eq!(kept, total.min(max_sites.max(1)));
+        // The committed goal always keeps a site.
+        prop_assert_eq!(near_first.map(|i| near[i].key), first.map(|f| goals[f].key));
+        // Goals in their order, each site one of its goal's.
+        let order: Vec<u32> = near
+            .iter()
+            .map(|g| match g.key {
+                GoalKey::Cost { class, .. } => class,
+                _ => u32::MAX,
+            })
+            .collect();
+        prop_assert!(order.windows(2).all(|w| w[0] < w[1]));
+        for g in near.iter() {
+            let GoalKey::Cost { class, .. } = g.key else { unreachable!() };
+            for s in &g.sites {
+                prop_assert!(goals[class as usize].sites.contains(s));
+            }
+        }
+        // Every dropped site is at least as far as every kept one (the committed goal aside).
+        if total > max_sites {
+            let committed = first.map(|f| goals[f].key);
+            let kept_far = near
+                .iter()
+                .filter(|g| Some(g.key) != committed)
+                .flat_map(|g| g.sites.iter().map(|s| s.dist_cells(robot)))
+                .fold(0.0f64, f64::max);
+            for (g, goal) in goals.iter().enumerate() {
+                if Some(g) == first {
+                    continue;
+                }
+                let in_near = near.iter().find(|n| n.key == goal.key);
+                for s in &goal.sites {
+                    if !in_near.is_some_and(|n| n.sites.contains(s)) {
+                        prop_assert!(s.dist_cells(robot) >= kept_far);
+                    }
+                }
+            }
+        }
     }
 }

@@ -4,7 +4,8 @@
 use super::{ReplanParts, TourExplorer};
 use crate::kernel::{Actuators, Body, Termination, drop_visited, start_look_around};
 use crate::planner::{
-    CostMode, GoalKey, PlanningView, Tour, TourGoal, TourOrder, horizon, plan_tour, window_around,
+    CostMode, GoalKey, PlanningView, Tour, TourGoal, TourOrder, horizon, plan_tour, retain_sites,
+    window_around,
 };
 use crate::timing::ms_since;
 use std::borrow::Cow;
@@ -205,6 +206,12 @@ impl TourExplorer {
     /// The goals of the tour's horizon from `here` ([`horizon`]; every goal for the greedy
     /// baseline or without a bound), the committed goal's index among them, and the window to
     /// plan them on (`None`: the whole map, when the horizon holds every goal).
+    ///
+    /// A bounded horizon takes its sites among those in the reachable set of the last spatial
+    /// update only: a site outside it cannot be reached on any planning view (whose admissible
+    /// cells are the map's, known and within bounds), and a horizon of such sites would leave
+    /// the window's plan empty and send every replan to the whole map. Without any such site,
+    /// every goal is planned on the whole map.
     fn horizon<'g>(
         &self,
         body: &Body,
@@ -214,12 +221,29 @@ impl TourExplorer {
     ) -> (Cow<'g, [TourGoal]>, Option<usize>, Option<CellRect>) {
         let solver = &self.params.solver;
         let bound = solver.max_sites.filter(|_| !self.behaviour.cheapest_next);
-        let (near, near_commit) = horizon(goals, here, commit, bound);
-        let window = matches!(near, Cow::Owned(_)).then(|| {
-            let margin = (solver.window_margin_m / body.map().cell_size()).ceil();
-            window_around(here, &near, margin.min(u32::MAX as f64) as u32)
-        });
-        (near, near_commit, window)
+        let total: usize = goals.iter().map(|g| g.sites.len()).sum();
+        if bound.is_none_or(|b| total <= b) {
+            return (Cow::Borrowed(goals), commit, None);
+        }
+        let (reachable, reachable_commit) = self.reachable_sites(goals, commit);
+        if reachable.is_empty() {
+            return (Cow::Borrowed(goals), commit, None);
+        }
+        let (near, near_commit) = horizon(&reachable, here, reachable_commit, bound);
+        let near = near.into_owned();
+        let margin = (solver.window_margin_m / body.map().cell_size()).ceil();
+        let window = window_around(here, &near, margin.min(u32::MAX as f64) as u32);
+        (Cow::Owned(near), near_commit, Some(window))
+    }
+
+    /// `goals` with only their sites in the reachable set of the last spatial update (goals
+    /// left without one dropped), and the committed goal's index among them.
+    fn reachable_sites(
+        &self,
+        goals: &[TourGoal],
+        commit: Option<usize>,
+    ) -> (Vec<TourGoal>, Option<usize>) {
+        retain_sites(goals, commit, |_, _, s| self.reach.contains(s))
     }
 
     /// The tour over `goals` on `view` from `here`, with goal `commit` first.
