@@ -133,15 +133,17 @@ impl Reachability {
         let layer = map.admissible_layer();
         let mut added = Vec::new();
         let mut lost = false;
+        // One tile read per changed block rather than a tile lookup per cell.
+        let mut block_now = Vec::new();
         for block in map.admissible_changes().changed_since(seen) {
             let Some(r) = crate::rect::intersection(block, self.rect) else {
                 continue;
             };
-            for c in r.cells() {
-                let Some(k) = self.rect.index(c) else {
+            layer.read_rect(r, &mut block_now);
+            for (n, &now) in block_now.iter().enumerate() {
+                let Some(k) = self.rect.index(r.cell(n)) else {
                     continue;
                 };
-                let now = layer.value(c);
                 if now == self.admissible[k] {
                     continue;
                 }
