@@ -72,8 +72,9 @@ enum Seen {
     Closed,
 }
 
-/// Reads the server's messages: subscribes to `topics` once all are advertised, forwards the
-/// messages received on them, and reports when the server closes the connection.
+/// Reads the server's messages: subscribes to `topics` once all are advertised (again when the
+/// server rejects a subscription), forwards the messages received on them, and reports when
+/// the server closes the connection.
 fn viewer(mut ws: WebSocket<TcpStream>, topics: &[&str], tx: mpsc::Sender<Seen>) {
     let mut channels: HashMap<String, u64> = HashMap::new();
     let mut subscribed: BTreeMap<u32, String> = BTreeMap::new();
@@ -98,6 +99,16 @@ fn viewer(mut ws: WebSocket<TcpStream>, topics: &[&str], tx: mpsc::Sender<Seen>)
                         let topic = c["topic"].as_str().unwrap().to_string();
                         channels.insert(topic, c["id"].as_u64().unwrap());
                     }
+                }
+                // The server sends an advertisement before it records the channel as advertised
+                // to this client, so a viewer that answers at once can be told the channel is
+                // unknown; Foxglove then keeps no subscription. Subscribe again.
+                if v["op"] == "status"
+                    && v["message"]
+                        .as_str()
+                        .is_some_and(|m| m.starts_with("Unknown channel ID"))
+                {
+                    subscribed.clear();
                 }
                 if subscribed.is_empty() && topics.iter().all(|t| channels.contains_key(*t)) {
                     let subs: Vec<Value> = topics
