@@ -16,10 +16,9 @@
 //! window's own edge can only disturb the margin that is not copied back. The results are the
 //! whole-map operations' (a property test compares them).
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use strider_core::CellRect;
+
+use super::budget_queue::BudgetQueue;
 
 use crate::descriptor_field::{DescriptorField, FieldVersion};
 use crate::igng::{ClassId, Igng};
@@ -41,11 +40,9 @@ pub(super) struct RawClasses {
     prototypes: Vec<(ClassId, Vec<f64>)>,
     /// The descriptor field's version at the last classification; `None`: classify all.
     seen: Option<FieldVersion>,
-    /// The classified cells by budget, lowest first, so that an update finds the cells whose
-    /// budget the drift used up without reading every cell. Entries are (the budget's
-    /// [`order_key`], storage index); an entry whose budget is no longer the cell's is stale
-    /// and skipped.
-    by_budget: BinaryHeap<Reverse<(u32, u32)>>,
+    /// The classified cells by budget, so that an update finds the cells whose budget the
+    /// drift used up without reading every cell.
+    by_budget: BudgetQueue,
     /// What the classifications so far did.
     pub(super) counts: ClassificationCounts,
 }
@@ -215,21 +212,11 @@ impl RawClasses {
         out
     }
 
-    /// The cells (described or not) whose budget the drift used up, taken off the queue.
+    /// The cells (described or not) whose budget the drift used up, taken off the queue
+    /// (possibly repeated).
     fn used_up_budgets(&mut self) -> Vec<usize> {
-        let mut stale = Vec::new();
-        while let Some(&Reverse((key, k))) = self.by_budget.peek() {
-            if self.drift < f64::from(from_order_key(key)) {
-                break;
-            }
-            self.by_budget.pop();
-            let k = k as usize;
-            // Only the cell's current budget counts; older entries were superseded.
-            if order_key(self.budget[k]) == key && matches!(self.raw[k], TerrainCell::Class(_)) {
-                stale.push(k);
-            }
-        }
-        stale
+        self.by_budget
+            .take_used_up(self.drift, &self.raw, &self.budget)
     }
 
     /// The reclassification by reading every described cell: the unknown ones, those of a
@@ -258,12 +245,12 @@ impl RawClasses {
 
     /// The queue of budgets from scratch: one entry per classified described cell.
     fn rebuild_budget_queue(&mut self, support: &[u32]) {
-        let entries: Vec<Reverse<(u32, u32)>> = support
-            .iter()
-            .filter(|&&k| matches!(self.raw[k as usize], TerrainCell::Class(_)))
-            .map(|&k| Reverse((order_key(self.budget[k as usize]), k)))
-            .collect();
-        self.by_budget = BinaryHeap::from(entries);
+        self.by_budget.clear();
+        for &k in support {
+            if matches!(self.raw[k as usize], TerrainCell::Class(_)) {
+                self.by_budget.push(self.budget[k as usize], k);
+            }
+        }
     }
 
     /// Classifies storage cell `k` again (unknown when not described), recording a change.
@@ -277,8 +264,7 @@ impl RawClasses {
         let before = self.raw[k];
         self.classify_cell(desc, igng, k);
         if matches!(self.raw[k], TerrainCell::Class(_)) {
-            self.by_budget
-                .push(Reverse((order_key(self.budget[k]), k as u32)));
+            self.by_budget.push(self.budget[k], k as u32);
         }
         out.classified += 1;
         if self.raw[k] != before {
@@ -310,25 +296,6 @@ struct Logs<'a> {
     added: &'a [u32],
     /// Classes gone.
     gone: &'a [ClassId],
-}
-
-/// A key of `v` whose unsigned order is the order of the floats (−∞ lowest, NaN above +∞).
-fn order_key(v: f32) -> u32 {
-    let b = v.to_bits();
-    if b & 0x8000_0000 != 0 {
-        !b
-    } else {
-        b | 0x8000_0000
-    }
-}
-
-/// The float of an [`order_key`].
-fn from_order_key(key: u32) -> f32 {
-    if key & 0x8000_0000 != 0 {
-        f32::from_bits(key & 0x7fff_ffff)
-    } else {
-        f32::from_bits(!key)
-    }
 }
 
 /// Half the gap between the two nearest distances, less a margin for the rounding of the
@@ -496,17 +463,6 @@ mod tests {
             recompute_near(&src, &mut dilated, w, &t_changed, steps * size, &mut scratch,
                 |v, ww, s| dilate_in_place(v, ww, s, size, steps));
             prop_assert_eq!(dilated, dilate_all(&eroded));
-        }
-    }
-
-    proptest! {
-        /// The order keys sort as the floats do, and give the floats back.
-        #[test]
-        fn order_keys_sort_as_the_floats(a in proptest::num::f32::ANY, b in proptest::num::f32::ANY) {
-            prop_assert_eq!(from_order_key(order_key(a)).to_bits(), a.to_bits());
-            if let Some(o) = a.partial_cmp(&b).filter(|_| a != 0.0 || b != 0.0) {
-                prop_assert_eq!(order_key(a).cmp(&order_key(b)), o);
-            }
         }
     }
 

@@ -47,6 +47,7 @@
 //! test), `learning_set` (L and the GP), `classes` (Alg. 7, 8 and 10), `goals` (Alg. 9 and the
 //! bootstrap goal); this file holds the model and its update (Alg. 6).
 
+mod budget_queue;
 mod class_map;
 mod class_stats;
 mod classes;
