@@ -208,15 +208,15 @@ pub fn footprint_max(grid: &CostGrid, r_robot: f64) -> Result<CostGrid, GridErro
     for a in 1..=widest {
         let prev = &rows[a - 1];
         let mut next = prev.clone();
-        for j in 0..h {
-            let row = &cost[j * w..(j + 1) * w];
-            let out = &mut next[j * w..(j + 1) * w];
-            for (i, o) in out.iter_mut().enumerate() {
-                if i >= a {
-                    *o = o.max(row[i - a]);
+        // H_a(i) = max(H_{a−1}(i), c(i − a), c(i + a)) where those exist, as two shifted
+        // passes over each row (no bounds test per cell, so they vectorise).
+        if a < w {
+            for (row, out) in cost.chunks_exact(w).zip(next.chunks_exact_mut(w)) {
+                for (o, &c) in out[a..].iter_mut().zip(&row[..w - a]) {
+                    *o = o.max(c);
                 }
-                if i + a < w {
-                    *o = o.max(row[i + a]);
+                for (o, &c) in out[..w - a].iter_mut().zip(&row[a..]) {
+                    *o = o.max(c);
                 }
             }
         }
