@@ -134,6 +134,10 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
             .total_cmp(&cost[a as usize])
             .then(a.cmp(&b))
     });
+    let reach = order.first().map_or(0, |&s| {
+        ((cost[s as usize] as f64 - c_min) / slope).floor() as i64
+    });
+    let table = OffsetLengths::new(reach);
     for &s in &order {
         let s = s as usize;
         let cs = cost[s] as f64;
@@ -150,12 +154,20 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
             }
             let half = (r * r - (dj * dj) as f64).max(0.0).sqrt().floor() as i64;
             let row = (j * w) as usize;
-            for i in (si - half).max(0)..=(si + half).min(w - 1) {
-                let q = row + i as usize;
-                let di = i - si;
-                let v = cs - slope * ((di * di + dj * dj) as f64).sqrt();
-                if v > out[q] {
-                    out[q] = v; // inadmissible cells hold +∞ and are never lowered
+            let (i0, i1) = ((si - half).max(0), (si + half).min(w - 1));
+            let cells = &mut out[row + i0 as usize..=row + i1 as usize];
+            match table.row(dj) {
+                Some(lengths) => {
+                    let from = (i0 - si + lengths.reach) as usize;
+                    for (o, &len) in cells.iter_mut().zip(&lengths.row[from..]) {
+                        // Inadmissible cells hold +∞ and are never lowered.
+                        *o = o.max(cs - slope * len);
+                    }
+                }
+                None => {
+                    for (o, di) in cells.iter_mut().zip(i0 - si..) {
+                        *o = o.max(cs - slope * ((di * di + dj * dj) as f64).sqrt());
+                    }
                 }
             }
         }
@@ -165,6 +177,54 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
         grid.cell_size(),
         out.into_iter().map(|v| v as f32).collect(),
     )
+}
+
+/// √(di² + dj²) for every offset of a cone's reach, computed once per transform instead of once
+/// per cell a cone covers (the same values, so the same result).
+struct OffsetLengths {
+    reach: i64,
+    /// Row dj + reach holds the lengths for di = −reach..=reach; empty when the reach is too
+    /// large for a table (a tiny c_loss), and then lengths are computed where needed.
+    lengths: Vec<f64>,
+}
+
+/// One row of [`OffsetLengths`].
+struct LengthRow<'a> {
+    reach: i64,
+    row: &'a [f64],
+}
+
+impl OffsetLengths {
+    /// Largest reach with a table (a 1025 × 1025 table of 8 MB).
+    const MAX_REACH: i64 = 512;
+
+    fn new(reach: i64) -> Self {
+        if !(0..=Self::MAX_REACH).contains(&reach) {
+            return Self {
+                reach,
+                lengths: Vec::new(),
+            };
+        }
+        let side = 2 * reach + 1;
+        let mut lengths = Vec::with_capacity((side * side) as usize);
+        for dj in -reach..=reach {
+            lengths.extend((-reach..=reach).map(|di| ((di * di + dj * dj) as f64).sqrt()));
+        }
+        Self { reach, lengths }
+    }
+
+    /// The lengths of row `dj` (|dj| ≤ the reach), if tabled.
+    fn row(&self, dj: i64) -> Option<LengthRow<'_>> {
+        if self.lengths.is_empty() {
+            return None;
+        }
+        let side = (2 * self.reach + 1) as usize;
+        let at = (dj + self.reach) as usize * side;
+        Some(LengthRow {
+            reach: self.reach,
+            row: &self.lengths[at..at + side],
+        })
+    }
 }
 
 /// Eq. 12: ĉ(ν) ← max over the disc δ(r_robot, ν) (cells whose centres lie within r_robot of
