@@ -15,6 +15,9 @@ pub(super) struct OldView<'a> {
     /// unknown), highest first (by the higher of the two): a candidate reads them only down to
     /// its own ground, below which none can block.
     pub(super) by_height: Vec<(Cell, f32, f32)>,
+    /// `by_height` by tile of the map, so that a candidate reads only the changed cells
+    /// within its reach.
+    tiles: ChangeTiles,
     /// The cells whose I_cell differs between the views: the changed cells and their
     /// 8-neighbours (I_cell depends on nothing else) where the values differ, once each.
     pub(super) icell_changed: Vec<Cell>,
@@ -51,11 +54,87 @@ impl<'a> OldView<'a> {
         idx.sort_unstable();
         idx.dedup();
         let icell_changed = idx.into_iter().map(|k| view.rect.cell(k)).collect();
+        let tiles = ChangeTiles::new(&by_height);
         Self {
             icount,
             by_height,
+            tiles,
             icell_changed,
         }
+    }
+}
+
+/// Side of the tiles of [`ChangeTiles`], cells.
+const TILE: i32 = 16;
+
+/// Indices into a list of changed cells, ascending, per tile of [`TILE`] cells over the
+/// cells' bounding box.
+struct ChangeTiles {
+    /// Tile (0, 0)'s tile coordinates.
+    min: (i32, i32),
+    cols: i32,
+    rows: i32,
+    lists: Vec<Vec<u32>>,
+}
+
+impl ChangeTiles {
+    fn new(cells: &[(Cell, f32, f32)]) -> Self {
+        let tile = |c: Cell| (c.i.div_euclid(TILE), c.j.div_euclid(TILE));
+        let (lo, hi) = cells.iter().fold(
+            ((i32::MAX, i32::MAX), (i32::MIN, i32::MIN)),
+            |(lo, hi), &(c, _, _)| {
+                let t = tile(c);
+                (
+                    (lo.0.min(t.0), lo.1.min(t.1)),
+                    (hi.0.max(t.0), hi.1.max(t.1)),
+                )
+            },
+        );
+        if cells.is_empty() {
+            return Self {
+                min: (0, 0),
+                cols: 0,
+                rows: 0,
+                lists: Vec::new(),
+            };
+        }
+        let (cols, rows) = (hi.0 - lo.0 + 1, hi.1 - lo.1 + 1);
+        let mut lists = vec![Vec::new(); cols as usize * rows as usize];
+        for (n, &(c, _, _)) in cells.iter().enumerate() {
+            let t = tile(c);
+            lists[((t.1 - lo.1) * cols + (t.0 - lo.0)) as usize].push(n as u32);
+        }
+        Self {
+            min: lo,
+            cols,
+            rows,
+            lists,
+        }
+    }
+
+    /// The lists of the tiles that meet the square of Chebyshev radius `reach` around `c`.
+    fn near(&self, c: Cell, reach: i32) -> impl Iterator<Item = &[u32]> {
+        let span = |lo: i32, hi: i32, min: i32, n: i32| {
+            let a = (lo.div_euclid(TILE) - min).max(0);
+            let b = (hi.div_euclid(TILE) - min).min(n - 1);
+            a..=b
+        };
+        let xs = span(
+            c.i.saturating_sub(reach),
+            c.i.saturating_add(reach),
+            self.min.0,
+            self.cols,
+        );
+        let ys = span(
+            c.j.saturating_sub(reach),
+            c.j.saturating_add(reach),
+            self.min.1,
+            self.rows,
+        );
+        ys.flat_map(move |ty| {
+            xs.clone()
+                .map(move |tx| self.lists[(ty * self.cols + tx) as usize].as_slice())
+        })
     }
 }
 
@@ -153,16 +232,22 @@ impl GainView {
             reach: disc.reach as i32 + 1,
         };
         let mut delta = 0i64;
-        // (b) first: sight lines that may have changed are cast again. Only cells above the
-        // candidate's ground can block; the rest of the list is lower still.
-        for &(x, zn, zo) in &old.by_height {
-            if update.sight.blocking(higher(zn, zo)).is_none() {
-                break;
+        // (b) first: sight lines that may have changed are cast again, from the changed cells
+        // within reach, tile by tile. Only cells above the candidate's ground can block; the
+        // rest of a tile's list is lower still. The order of the blockers does not matter:
+        // each target is recast once, by the first blocker that may have changed its line,
+        // and a recast finds its visibility in the new view whichever blocker asked.
+        for list in old.tiles.near(c, update.reach) {
+            for &n in list {
+                let (x, zn, zo) = old.by_height[n as usize];
+                if update.sight.blocking(higher(zn, zo)).is_none() {
+                    break;
+                }
+                let Some(b) = update.blocker(x, zn, zo) else {
+                    continue;
+                };
+                update.for_each_shadowed(&b, |k| delta += update.recast(&b, k, scratch, vis));
             }
-            let Some(b) = update.blocker(x, zn, zo) else {
-                continue;
-            };
-            update.for_each_shadowed(&b, |k| delta += update.recast(&b, k, scratch, vis));
         }
         // (a) the rest: I_cell changed, the sight line did not.
         for &t in &old.icell_changed {
@@ -213,8 +298,9 @@ impl Delta<'_> {
         let disc = self.disc;
         if b.end <= b.ex.r + NEAR_SHADOW {
             // Short shadow (barely above the sensor's ground): its precomputed list.
-            for &k in disc.near_shadow(b.kx) {
-                if disc.entries[k as usize].r > b.end {
+            let (group, rs) = disc.near_shadow(b.kx);
+            for (&k, &r) in group.iter().zip(rs) {
+                if r > b.end {
                     break;
                 }
                 visit(k as usize);

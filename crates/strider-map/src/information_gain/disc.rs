@@ -36,6 +36,8 @@ pub(super) struct DiscTable {
     /// distance. The delta update scans this instead of searching each bin.
     near_start: Vec<u32>,
     near: Vec<u32>,
+    /// The centre distance of each entry of `near`, alongside (as `by_bin_r`).
+    near_r: Vec<f32>,
 }
 
 /// One offset of the disc.
@@ -165,6 +167,7 @@ impl DiscTable {
         let (by_bin_start, by_bin) = bin_index(&entries);
         let (near_start, near) = near_shadow_lists(&entries, &by_bin_start, &by_bin);
         let by_bin_r = by_bin.iter().map(|&k| entries[k as usize].r).collect();
+        let near_r = near.iter().map(|&k| entries[k as usize].r).collect();
         Self {
             entries,
             reach,
@@ -174,14 +177,16 @@ impl DiscTable {
             by_bin_r,
             near_start,
             near,
+            near_r,
         }
     }
 
     /// The entries a cell at entry `k` can shadow within [`NEAR_SHADOW`] of its centre
-    /// distance, by increasing distance (see `DiscTable::near`).
+    /// distance, by increasing distance (see `DiscTable::near`), with their distances.
     #[inline]
-    pub(super) fn near_shadow(&self, k: usize) -> &[u32] {
-        &self.near[self.near_start[k] as usize..self.near_start[k + 1] as usize]
+    pub(super) fn near_shadow(&self, k: usize) -> (&[u32], &[f32]) {
+        let range = self.near_start[k] as usize..self.near_start[k + 1] as usize;
+        (&self.near[range.clone()], &self.near_r[range])
     }
 
     /// The entries (centre excluded) of direction bin `bin` by increasing distance, with their
