@@ -27,11 +27,10 @@ pub(super) struct BudgetQueue {
 }
 
 impl BudgetQueue {
-    /// Removes every entry.
+    /// Removes every entry (and frees the buckets' memory).
     pub(super) fn clear(&mut self) {
-        let from = self.lowest.min(self.buckets.len());
-        for b in &mut self.buckets[from..] {
-            b.clear();
+        for b in &mut self.buckets {
+            *b = Vec::new();
         }
         self.lowest = self.buckets.len();
         self.len = 0;
@@ -40,6 +39,12 @@ impl BudgetQueue {
     /// Entries held, stale ones included.
     pub(super) fn len(&self) -> usize {
         self.len
+    }
+
+    /// Entries the buckets have room for.
+    #[cfg(test)]
+    fn capacity(&self) -> usize {
+        self.buckets.iter().map(Vec::capacity).sum()
     }
 
     /// Adds cell `k` with budget `budget`.
@@ -81,6 +86,14 @@ impl BudgetQueue {
                 bucket_of(budget[k]) == b
             });
             self.len += entries.len();
+            // The drift passes each bucket once between full classifications: a bucket it
+            // emptied keeps no memory, or over a long mission every bucket the drift swept
+            // would hold on to the most entries it ever had.
+            if entries.is_empty() {
+                entries = Vec::new();
+            } else if entries.capacity() > 2 * entries.len() + 16 {
+                entries.shrink_to_fit();
+            }
             self.buckets[b] = entries;
             b += 1;
         }
@@ -179,6 +192,35 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A drift sweeping through many buckets leaves none holding memory behind it.
+    #[test]
+    fn swept_buckets_free_their_memory() {
+        let n = 4096;
+        let raw = vec![TerrainCell::Class(ClassId(0)); n];
+        let mut budget = vec![0.0f32; n];
+        let mut q = BudgetQueue::default();
+        let mut drift = 0.0f64;
+        for _ in 0..200 {
+            // Every cell used up and classified again just above the drift.
+            for (k, b) in budget.iter_mut().enumerate() {
+                *b = (drift + 0.01 + k as f64 * 1e-6) as f32;
+                q.push(*b, k as u32);
+            }
+            drift += 0.05;
+            let taken = q.take_used_up(drift, &raw, &budget);
+            assert_eq!(taken.len(), n);
+        }
+        assert_eq!(q.len(), 0);
+        assert!(
+            q.capacity() <= 4 * n,
+            "{} entries of room for none",
+            q.capacity()
+        );
+        q.push(1e9, 0);
+        q.clear();
+        assert_eq!(q.capacity(), 0);
     }
 
     #[test]
