@@ -116,7 +116,7 @@ fn lowest_budget(b: usize) -> f32 {
 }
 
 /// A key of `v` whose unsigned order is the order of the floats (−∞ lowest, NaN above +∞).
-pub(super) fn order_key(v: f32) -> u32 {
+fn order_key(v: f32) -> u32 {
     let b = v.to_bits();
     if b & 0x8000_0000 != 0 {
         !b
@@ -126,7 +126,7 @@ pub(super) fn order_key(v: f32) -> u32 {
 }
 
 /// The float of an [`order_key`].
-pub(super) fn from_order_key(key: u32) -> f32 {
+fn from_order_key(key: u32) -> f32 {
     if key & 0x8000_0000 != 0 {
         f32::from_bits(key & 0x7fff_ffff)
     } else {
