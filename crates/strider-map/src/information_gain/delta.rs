@@ -21,6 +21,8 @@ pub(super) struct OldView<'a> {
     /// The cells whose I_cell differs between the views: the changed cells and their
     /// 8-neighbours (I_cell depends on nothing else) where the values differ, once each.
     pub(super) icell_changed: Vec<Cell>,
+    /// `icell_changed` by tile, for the same reason as `tiles`.
+    icell_tiles: ChangeTiles,
 }
 
 impl<'a> OldView<'a> {
@@ -53,13 +55,15 @@ impl<'a> OldView<'a> {
         }
         idx.sort_unstable();
         idx.dedup();
-        let icell_changed = idx.into_iter().map(|k| view.rect.cell(k)).collect();
-        let tiles = ChangeTiles::new(&by_height);
+        let icell_changed: Vec<Cell> = idx.into_iter().map(|k| view.rect.cell(k)).collect();
+        let tiles = ChangeTiles::new(&by_height, |&(c, _, _)| c);
+        let icell_tiles = ChangeTiles::new(&icell_changed, |&c| c);
         Self {
             icount,
             by_height,
             tiles,
             icell_changed,
+            icell_tiles,
         }
     }
 }
@@ -67,8 +71,8 @@ impl<'a> OldView<'a> {
 /// Side of the tiles of [`ChangeTiles`], cells.
 const TILE: i32 = 16;
 
-/// Indices into a list of changed cells, ascending, per tile of [`TILE`] cells over the
-/// cells' bounding box.
+/// Indices into a list of cells, ascending, per tile of [`TILE`] cells over the cells'
+/// bounding box.
 struct ChangeTiles {
     /// Tile (0, 0)'s tile coordinates.
     min: (i32, i32),
@@ -78,19 +82,20 @@ struct ChangeTiles {
 }
 
 impl ChangeTiles {
-    fn new(cells: &[(Cell, f32, f32)]) -> Self {
+    /// The tiles of `items`, each at cell `cell_of(item)`.
+    fn new<T>(items: &[T], cell_of: impl Fn(&T) -> Cell) -> Self {
         let tile = |c: Cell| (c.i.div_euclid(TILE), c.j.div_euclid(TILE));
-        let (lo, hi) = cells.iter().fold(
+        let (lo, hi) = items.iter().fold(
             ((i32::MAX, i32::MAX), (i32::MIN, i32::MIN)),
-            |(lo, hi), &(c, _, _)| {
-                let t = tile(c);
+            |(lo, hi), x| {
+                let t = tile(cell_of(x));
                 (
                     (lo.0.min(t.0), lo.1.min(t.1)),
                     (hi.0.max(t.0), hi.1.max(t.1)),
                 )
             },
         );
-        if cells.is_empty() {
+        if items.is_empty() {
             return Self {
                 min: (0, 0),
                 cols: 0,
@@ -100,8 +105,8 @@ impl ChangeTiles {
         }
         let (cols, rows) = (hi.0 - lo.0 + 1, hi.1 - lo.1 + 1);
         let mut lists = vec![Vec::new(); cols as usize * rows as usize];
-        for (n, &(c, _, _)) in cells.iter().enumerate() {
-            let t = tile(c);
+        for (n, x) in items.iter().enumerate() {
+            let t = tile(cell_of(x));
             lists[((t.1 - lo.1) * cols + (t.0 - lo.0)) as usize].push(n as u32);
         }
         Self {
@@ -249,9 +254,12 @@ impl GainView {
                 update.for_each_shadowed(&b, |k| delta += update.recast(&b, k, scratch, vis));
             }
         }
-        // (a) the rest: I_cell changed, the sight line did not.
-        for &t in &old.icell_changed {
-            delta += update.follow_icell(t, scratch, vis);
+        // (a) the rest: I_cell changed, the sight line did not. Each target is its own term,
+        // so the order does not matter either.
+        for list in old.icell_tiles.near(c, update.reach) {
+            for &n in list {
+                delta += update.follow_icell(old.icell_changed[n as usize], scratch, vis);
+            }
         }
         delta
     }
