@@ -10,22 +10,14 @@
 //! A new prototype could be nearer than any budget says, so a new class (rare once the terrain
 //! families have been seen) reclassifies every cell.
 //!
-//! **Where erosion and dilation can change.** Both are local: after s steps a cell depends on
-//! the cells within s (erosion) or s·n_size (dilation) of it. So the maps are recomputed in
-//! blocks around the changed cells, each block on a window grown by that reach, where the
-//! window's own edge can only disturb the margin that is not copied back. The results are the
-//! whole-map operations' (a property test compares them).
-
-use strider_core::CellRect;
+//! The erosion and dilation that follow the class changes are `morphology::erode_near` and
+//! `morphology::dilate_near`.
 
 use super::budget_queue::BudgetQueue;
 
 use crate::descriptor_field::{DescriptorField, FieldVersion};
 use crate::igng::{ClassId, Igng};
 use crate::morphology::TerrainCell;
-
-/// Side of the blocks the maps are recomputed in, cells.
-const BLOCK: usize = 32;
 
 /// T* over the storage rectangle with each cell's budget, and what they were computed with.
 #[derive(Debug, Default)]
@@ -310,161 +302,10 @@ fn round_down(v: f64) -> f32 {
     if f64::from(f) > v { f.next_down() } else { f }
 }
 
-/// Recomputes `dst` = `op(src)` near the storage cells `changed` of a `w`-wide map, for an
-/// operation that reads no farther than `reach` cells: in blocks of [`BLOCK`] cells within
-/// `reach` of a change, each computed on its window grown by `reach` (in `scratch`). `op`
-/// gets the window, its width and its cells that are not unknown. Returns the cells of `dst`
-/// that changed, ascending.
-pub(super) fn recompute_near(
-    src: &[TerrainCell],
-    dst: &mut [TerrainCell],
-    w: usize,
-    changed: &[u32],
-    reach: usize,
-    scratch: &mut Vec<TerrainCell>,
-    mut op: impl FnMut(&mut [TerrainCell], usize, &[u32]),
-) -> Vec<u32> {
-    let mut out = Vec::new();
-    if w == 0 || src.len() != dst.len() {
-        return out;
-    }
-    let h = src.len() / w;
-    let mut support = Vec::new();
-    for (bx, by) in touched_blocks(changed, w, h, reach) {
-        let block = CellRect::new(
-            strider_core::Cell::new((bx * BLOCK) as i32, (by * BLOCK) as i32),
-            BLOCK.min(w - bx * BLOCK) as u32,
-            BLOCK.min(h - by * BLOCK) as u32,
-        );
-        let (x0, y0) = (block.min.i as usize, block.min.j as usize);
-        let (x1, y1) = (x0 + block.width as usize, y0 + block.height as usize);
-        let (wx0, wy0) = (x0.saturating_sub(reach), y0.saturating_sub(reach));
-        let (wx1, wy1) = ((x1 + reach).min(w), (y1 + reach).min(h));
-        let ww = wx1 - wx0;
-        scratch.clear();
-        for y in wy0..wy1 {
-            scratch.extend_from_slice(&src[y * w + wx0..y * w + wx1]);
-        }
-        support.clear();
-        support.extend(
-            (0..scratch.len() as u32).filter(|&k| scratch[k as usize] != TerrainCell::Unknown),
-        );
-        op(scratch, ww, &support);
-        for y in y0..y1 {
-            for x in x0..x1 {
-                let v = scratch[(y - wy0) * ww + (x - wx0)];
-                let k = y * w + x;
-                if dst[k] != v {
-                    dst[k] = v;
-                    out.push(k as u32);
-                }
-            }
-        }
-    }
-    out.sort_unstable();
-    out
-}
-
-/// The blocks (column, row) within `reach` of the cells `changed`, each once, in order.
-fn touched_blocks(changed: &[u32], w: usize, h: usize, reach: usize) -> Vec<(usize, usize)> {
-    let bw = w.div_ceil(BLOCK);
-    let mut blocks: Vec<usize> = Vec::new();
-    for &k in changed {
-        let (x, y) = (k as usize % w, k as usize / w);
-        if y >= h {
-            continue;
-        }
-        let (bx0, bx1) = (
-            x.saturating_sub(reach) / BLOCK,
-            (x + reach).min(w - 1) / BLOCK,
-        );
-        let (by0, by1) = (
-            y.saturating_sub(reach) / BLOCK,
-            (y + reach).min(h - 1) / BLOCK,
-        );
-        for by in by0..=by1 {
-            blocks.extend((bx0..=bx1).map(|bx| by * bw + bx));
-        }
-    }
-    blocks.sort_unstable();
-    blocks.dedup();
-    blocks.into_iter().map(|b| (b % bw, b / bw)).collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::morphology::{dilate_in_place, erode_in_place};
     use proptest::prelude::*;
-
-    fn cell_of(code: u8) -> TerrainCell {
-        match code {
-            0 => TerrainCell::Unknown,
-            1 => TerrainCell::Eroded,
-            c => TerrainCell::Class(ClassId(u32::from(c - 2))),
-        }
-    }
-
-    fn known(values: &[TerrainCell]) -> Vec<u32> {
-        (0..values.len() as u32)
-            .filter(|&k| values[k as usize] != TerrainCell::Unknown)
-            .collect()
-    }
-
-    proptest! {
-        /// After changes to the source, erosion and dilation redone near them equal the
-        /// whole-map operations.
-        #[test]
-        fn recomputed_near_changes_equals_whole_map(
-            w in 1usize..80,
-            h in 1usize..80,
-            seed_codes in proptest::collection::vec(2u8..5, 1..64),
-            edits in proptest::collection::vec((0usize..6400, 0u8..5), 0..30),
-            steps in 1usize..4,
-            size in 1usize..3,
-        ) {
-            // Patches of classes (so that erosion keeps some), some unknown and eroded.
-            let before: Vec<TerrainCell> = (0..w * h)
-                .map(|k| {
-                    let (x, y) = (k % w, k / w);
-                    cell_of(seed_codes[(x / 7 + 3 * (y / 5)) % seed_codes.len()])
-                })
-                .collect();
-            let erode_all = |v: &[TerrainCell]| {
-                let mut v = v.to_vec();
-                let s = known(&v);
-                erode_in_place(&mut v, w, &s, steps);
-                v
-            };
-            let dilate_all = |v: &[TerrainCell]| {
-                let mut v = v.to_vec();
-                let s = known(&v);
-                dilate_in_place(&mut v, w, &s, size, steps);
-                v
-            };
-            let mut eroded = erode_all(&before);
-            let mut dilated = dilate_all(&eroded);
-            let mut after = before.clone();
-            let mut changed = Vec::new();
-            for (k, c) in edits {
-                let k = k % (w * h);
-                if after[k] != cell_of(c) {
-                    after[k] = cell_of(c);
-                    changed.push(k as u32);
-                }
-            }
-            changed.sort_unstable();
-            changed.dedup();
-            let mut scratch = Vec::new();
-            let t_changed = recompute_near(&after, &mut eroded, w, &changed, steps, &mut scratch,
-                |v, ww, s| erode_in_place(v, ww, s, steps));
-            prop_assert_eq!(&eroded, &erode_all(&after));
-            let src = eroded.clone();
-            recompute_near(&src, &mut dilated, w, &t_changed, steps * size, &mut scratch,
-                |v, ww, s| dilate_in_place(v, ww, s, size, steps));
-            prop_assert_eq!(dilated, dilate_all(&eroded));
-        }
-    }
 
     proptest! {
         /// Classes kept between classifications, while the prototypes move (so that budgets
@@ -480,7 +321,7 @@ mod tests {
             ),
         ) {
             use crate::igng::IgngParams;
-            use strider_core::Cell;
+            use strider_core::{Cell, CellRect};
             let rect = CellRect::new(Cell::new(0, 0), 8, 5);
             let mut desc = DescriptorField::empty(rect, 2);
             let mut state = seed;

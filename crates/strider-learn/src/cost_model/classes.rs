@@ -4,7 +4,7 @@
 
 use rustc_hash::FxHashMap as HashMap;
 
-use super::{CostModelError, GaitCostModel, class_map};
+use super::{CostModelError, GaitCostModel};
 use crate::descriptor_field::DescriptorField;
 use crate::gp::differential_entropy;
 use crate::igng::ClassId;
@@ -55,15 +55,8 @@ impl GaitCostModel {
             self.learn_changed = None;
             self.class_touched = None;
         } else {
-            let changed = class_map::recompute_near(
-                &self.raw.raw,
-                &mut self.learn_class,
-                w,
-                &r.changed,
-                steps,
-                &mut self.window,
-                |v, ww, s| morphology::erode_in_place(v, ww, s, steps),
-            );
+            let changed =
+                morphology::erode_near(&self.raw.raw, &mut self.learn_class, w, &r.changed, steps);
             if let Some(t) = &mut self.class_touched {
                 t.extend_from_slice(&changed);
             }
@@ -191,14 +184,14 @@ impl GaitCostModel {
             Some(mut changed) => {
                 changed.sort_unstable();
                 changed.dedup();
-                class_map::recompute_near(
+                morphology::dilate_near(
                     &self.learn_class,
                     &mut self.plan_class,
                     w,
                     &changed,
-                    steps.saturating_mul(size),
+                    size,
+                    steps,
                     &mut self.window,
-                    |v, ww, s| morphology::dilate_in_place(v, ww, s, size, steps),
                 );
             }
         }

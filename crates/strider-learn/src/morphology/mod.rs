@@ -36,6 +36,10 @@ use thiserror::Error;
 
 use crate::igng::ClassId;
 
+mod near;
+
+pub use near::{dilate_near, erode_near};
+
 /// A class-map cell: no descriptor, eroded, or a class.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum TerrainCell {
@@ -149,6 +153,33 @@ fn erode_rule(cur: &[TerrainCell], w: usize, h: usize, x: usize, y: usize) -> Op
             && cur[ny as usize * w + nx as usize] == TerrainCell::Class(c)
     });
     (!keep).then_some(TerrainCell::Eroded)
+}
+
+/// The value of cell (x, y) of a `w` × `h` map after `steps` erosion steps, read off the map
+/// directly: a class cell keeps its class only when every cell within `steps` of it (in x and
+/// in y) lies on the map and has that class; other cells never change. (One step asks this of
+/// the 8-neighbourhood; if the squares of radius s − 1 around a cell and its 8 neighbours are
+/// all one class, so is the square of radius s around it.)
+fn eroded_at(
+    values: &[TerrainCell],
+    w: usize,
+    h: usize,
+    x: usize,
+    y: usize,
+    steps: usize,
+) -> TerrainCell {
+    let v = values[y * w + x];
+    if !matches!(v, TerrainCell::Class(_)) {
+        return v;
+    }
+    let inside = x >= steps && y >= steps && x + steps < w && y + steps < h;
+    let uniform = inside
+        && (y - steps..=y + steps).all(|ny| {
+            values[ny * w + x - steps..=ny * w + x + steps]
+                .iter()
+                .all(|&u| u == v)
+        });
+    if uniform { v } else { TerrainCell::Eroded }
 }
 
 /// [`dilate`] in place, visiting only `support` (as for [`erode_in_place`]).
@@ -348,6 +379,10 @@ mod tests {
             let mut slow = values.clone();
             full_passes(&mut slow, w, steps, erode_rule);
             proptest::prop_assert_eq!(&fast, &slow);
+            let h = values.len() / w;
+            let direct: Vec<TerrainCell> =
+                (0..values.len()).map(|k| eroded_at(&values, w, h, k % w, k / w, steps)).collect();
+            proptest::prop_assert_eq!(&direct, &slow);
             let support = known_cells(&fast);
             dilate_in_place(&mut fast, w, &support, n_size, steps);
             full_passes(&mut slow, w, steps, dilate_rule(n_size));
