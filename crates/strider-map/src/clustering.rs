@@ -54,9 +54,8 @@ pub fn greedy_clusters(cells: &[Cell], radius: f64) -> Vec<Vec<usize>> {
     for (k, &c) in cells.iter().enumerate() {
         let (x, y) = (c.i as f64, c.j as f64);
         let mut best: Option<(f64, usize)> = None;
-        buckets.for_each_near(x, y, |cl| {
-            let (sx, sy, n) = sums[cl];
-            let (dx, dy) = (x - sx / n, y - sy / n);
+        buckets.for_each_near(x, y, |cl, (cx, cy)| {
+            let (dx, dy) = (x - cx, y - cy);
             let d2 = dx * dx + dy * dy;
             if d2 < r2 && best.is_none_or(|(bd, bc)| d2 < bd || (d2 == bd && cl < bc)) {
                 best = Some((d2, cl));
@@ -93,7 +92,9 @@ struct CentreBuckets {
     side: f64,
     origin: (f64, f64),
     dims: (i64, i64),
-    buckets: Vec<Vec<usize>>,
+    /// Per bucket: the clusters whose centre lies in it, with the centre (kept here, so that
+    /// a look-up reads it next to the id instead of dividing the cluster's sums).
+    buckets: Vec<Vec<(usize, (f64, f64))>>,
 }
 
 impl CentreBuckets {
@@ -140,27 +141,28 @@ impl CentreBuckets {
         )
     }
 
-    fn at(&mut self, (bx, by): (i64, i64)) -> &mut Vec<usize> {
+    fn at(&mut self, (bx, by): (i64, i64)) -> &mut Vec<(usize, (f64, f64))> {
         &mut self.buckets[(by * self.dims.0 + bx) as usize]
     }
 
     fn insert(&mut self, cl: usize, x: f64, y: f64) {
         let k = self.key(x, y);
-        self.at(k).push(cl);
+        self.at(k).push((cl, (x, y)));
     }
 
     fn remove(&mut self, cl: usize, x: f64, y: f64) {
         let k = self.key(x, y);
-        self.at(k).retain(|&c| c != cl);
+        self.at(k).retain(|&(c, _)| c != cl);
     }
 
-    /// Calls `visit` with every cluster whose centre lies in (x, y)'s bucket or a neighbour.
-    fn for_each_near(&self, x: f64, y: f64, mut visit: impl FnMut(usize)) {
+    /// Calls `visit` with every cluster whose centre lies in (x, y)'s bucket or a neighbour,
+    /// and its centre.
+    fn for_each_near(&self, x: f64, y: f64, mut visit: impl FnMut(usize, (f64, f64))) {
         let (bx, by) = self.key(x, y);
         for ny in (by - 1).max(0)..=(by + 1).min(self.dims.1 - 1) {
             for nx in (bx - 1).max(0)..=(bx + 1).min(self.dims.0 - 1) {
-                for &cl in &self.buckets[(ny * self.dims.0 + nx) as usize] {
-                    visit(cl);
+                for &(cl, centre) in &self.buckets[(ny * self.dims.0 + nx) as usize] {
+                    visit(cl, centre);
                 }
             }
         }
