@@ -29,12 +29,8 @@ pub fn erode_near(
     if changed.len().saturating_mul(side * side) >= src.len() {
         // So many changes that their squares would cover the map several times: every cell
         // once, in order.
-        for (n, d) in dst.iter_mut().enumerate().take(h * w) {
-            let v = eroded_at(src, w, h, n % w, n / w, steps);
-            if *d != v {
-                *d = v;
-                out.push(n as u32);
-            }
+        for n in 0..h * w {
+            record(dst, n, eroded_at(src, w, h, n % w, n / w, steps), &mut out);
         }
         return out;
     }
@@ -46,19 +42,24 @@ pub fn erode_near(
         let (x0, x1) = (x.saturating_sub(steps), (x + steps).min(w - 1));
         for ny in y.saturating_sub(steps)..=(y + steps).min(h - 1) {
             for nx in x0..=x1 {
-                let v = eroded_at(src, w, h, nx, ny, steps);
-                let n = ny * w + nx;
                 // A cell near several changes is computed again, to the same value: it is
                 // listed once, when it first changes.
-                if dst[n] != v {
-                    dst[n] = v;
-                    out.push(n as u32);
-                }
+                let v = eroded_at(src, w, h, nx, ny, steps);
+                record(dst, ny * w + nx, v, &mut out);
             }
         }
     }
     out.sort_unstable();
     out
+}
+
+/// Sets `dst[k]` to `v`, listing `k` in `out` when that changes it.
+#[inline]
+fn record(dst: &mut [TerrainCell], k: usize, v: TerrainCell, out: &mut Vec<u32>) {
+    if dst[k] != v {
+        dst[k] = v;
+        out.push(k as u32);
+    }
 }
 
 /// Recomputes `dst` = `op(src)` near the cells `changed` of a `w`-wide map, for an
@@ -103,12 +104,12 @@ fn recompute_near(
         op(scratch, ww, &support);
         for y in area.y0..area.y1 {
             for x in area.x0..area.x1 {
-                let v = scratch[(y - wy0) * ww + (x - wx0)];
-                let k = y * w + x;
-                if dst[k] != v {
-                    dst[k] = v;
-                    out.push(k as u32);
-                }
+                record(
+                    dst,
+                    y * w + x,
+                    scratch[(y - wy0) * ww + (x - wx0)],
+                    &mut out,
+                );
             }
         }
     }
