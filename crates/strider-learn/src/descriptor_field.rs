@@ -399,6 +399,21 @@ impl DescriptorField {
         self.version.revision = self.version.revision.wrapping_add(1);
     }
 
+    /// Drops the change logs: a consumer that has seen the current version reads empty logs
+    /// from now on, an older one starts over. An owner whose consumers all catch up at once
+    /// (the learning update brings every gait's model to the field) calls this after they
+    /// did, so that the logs hold one update's changes instead of up to as many entries as
+    /// there are described cells (84 bytes each at nine bins).
+    pub fn forget_changes(&mut self) {
+        self.changed_rev.clear();
+        self.changed.clear();
+        self.changed_old.clear();
+        self.log_start = self.version.revision;
+        self.added_rev.clear();
+        self.added.clear();
+        self.added_start = self.version.revision;
+    }
+
     /// Identity and revision (see [`FieldVersion`]).
     pub fn version(&self) -> FieldVersion {
         self.version

@@ -78,6 +78,8 @@ impl TourExplorer {
             .par_iter_mut()
             .map(|m| m.update(map, desc))
             .collect();
+        // Every model has read the field's change logs up to now: they need not keep them.
+        self.desc.forget_changes();
         for (g, u) in updates.into_iter().enumerate() {
             if let Ok(u) = u {
                 for goal in &u.goals {

@@ -57,6 +57,34 @@ fn set_keeps_row_major_order_and_survives_relayout() {
     assert_eq!(f.get(Cell::new(5, 5)), Some(&[1.0][..]));
 }
 
+#[test]
+fn forgotten_changes_read_empty_now_and_start_older_consumers_over() {
+    let mut f = DescriptorField::empty(CellRect::new(Cell::new(0, 0), 10, 10), 1);
+    f.set(Cell::new(1, 1), &[1.0]);
+    let old = f.version();
+    f.set(Cell::new(1, 1), &[2.0]);
+    f.set(Cell::new(2, 2), &[3.0]);
+    assert_eq!(f.changes_since(old).map(|c| c.count()), Some(1));
+    assert_eq!(f.added_since(old).map(<[u32]>::len), Some(1));
+    let now = f.version();
+    f.forget_changes();
+    assert_eq!(f.changes_since(now).map(|c| c.count()), Some(0));
+    assert_eq!(f.added_since(now), Some(&[][..]));
+    assert!(f.changes_since(old).is_none() && f.added_since(old).is_none());
+    // Changes after it are logged as before.
+    f.set(Cell::new(2, 2), &[4.0]);
+    let logged: Vec<(usize, Vec<f64>)> = f
+        .changes_since(now)
+        .unwrap()
+        .map(|(n, d)| (n, d.to_vec()))
+        .collect();
+    assert_eq!(
+        logged,
+        vec![(f.storage().index(Cell::new(2, 2)).unwrap(), vec![3.0])]
+    );
+    assert_eq!(f.get(Cell::new(1, 1)), Some(&[2.0][..]));
+}
+
 fn full(map: &ElevationMap, r_hist: f64) -> DescriptorField {
     match map.known_bounds() {
         Some(rect) => DescriptorField::from_raster(&color_histograms(map, rect, r_hist)),
