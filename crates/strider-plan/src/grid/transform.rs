@@ -13,6 +13,7 @@
 //! configuration-space inflation of decision 4. Cells outside the grid are ignored (unknown).
 
 use super::cost_grid::{CostGrid, GridError};
+use rayon::prelude::*;
 use strider_core::Cell;
 use strider_core::grid::disc_offsets;
 
@@ -137,46 +138,84 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
     let reach = order.first().map_or(0, |&s| {
         ((cost[s as usize] as f64 - c_min) / slope).floor() as i64
     });
-    let table = OffsetLengths::new(reach);
-    for &s in &order {
-        let s = s as usize;
-        let cs = cost[s] as f64;
-        if out[s] > cs {
-            continue; // dominated
-        }
-        let (si, sj) = ((s as i64) % w, (s as i64) / w);
-        let r = (cs - c_min) / slope;
-        let rc = r.floor() as i64;
-        for dj in -rc..=rc {
-            let j = sj + dj;
-            if j < 0 || j >= h {
-                continue;
-            }
-            let half = (r * r - (dj * dj) as f64).max(0.0).sqrt().floor() as i64;
-            let row = (j * w) as usize;
-            let (i0, i1) = ((si - half).max(0), (si + half).min(w - 1));
-            let cells = &mut out[row + i0 as usize..=row + i1 as usize];
-            match table.row(dj) {
-                Some(lengths) => {
-                    let from = (i0 - si + lengths.reach) as usize;
-                    for (o, &len) in cells.iter_mut().zip(&lengths.row[from..]) {
-                        // Inadmissible cells hold +∞ and are never lowered.
-                        *o = o.max(cs - slope * len);
-                    }
-                }
-                None => {
-                    for (o, di) in cells.iter_mut().zip(i0 - si..) {
-                        *o = o.max(cs - slope * ((di * di + dj * dj) as f64).sqrt());
-                    }
-                }
-            }
-        }
-    }
+    let cones = Cones {
+        cost,
+        order: &order,
+        table: OffsetLengths::new(reach),
+        slope,
+        c_min,
+        w,
+    };
+    // Bands of rows side by side, each scattering every cone that reaches it into its own
+    // rows only: a cell's value is a maximum, whatever the order, so the result does not
+    // depend on the bands.
+    let rows_per_band = (h as usize)
+        .div_ceil(rayon::current_num_threads().max(1))
+        .max(1);
+    out.par_chunks_mut((rows_per_band * w as usize).max(1))
+        .enumerate()
+        .for_each(|(b, band)| cones.scatter_into(band, (b * rows_per_band) as i64));
     CostGrid::new(
         rect,
         grid.cell_size(),
         out.into_iter().map(|v| v as f32).collect(),
     )
+}
+
+/// The cone sources of [`distance_transform`], highest first, and what scattering them needs.
+struct Cones<'a> {
+    cost: &'a [f32],
+    order: &'a [u32],
+    table: OffsetLengths,
+    /// c_loss per cell.
+    slope: f64,
+    c_min: f64,
+    w: i64,
+}
+
+impl Cones<'_> {
+    /// Raises `band`, the rows of the output from `j0` on, by every cone that reaches them. A
+    /// source in the band that already stands above its own cost was raised by a higher cone,
+    /// which lies above its cone everywhere, and is skipped; a source outside the band is
+    /// scattered anyway (when dominated, it changes nothing).
+    fn scatter_into(&self, band: &mut [f64], j0: i64) {
+        let w = self.w;
+        let j1 = j0 + band.len() as i64 / w;
+        for &s in self.order {
+            let s = s as usize;
+            let cs = self.cost[s] as f64;
+            let (si, sj) = ((s as i64) % w, (s as i64) / w);
+            let r = (cs - self.c_min) / self.slope;
+            let rc = r.floor() as i64;
+            if sj + rc < j0 || sj - rc >= j1 {
+                continue;
+            }
+            if (j0..j1).contains(&sj) && band[s - (j0 * w) as usize] > cs {
+                continue; // dominated
+            }
+            for j in (sj - rc).max(j0)..=(sj + rc).min(j1 - 1) {
+                let dj = j - sj;
+                let half = (r * r - (dj * dj) as f64).max(0.0).sqrt().floor() as i64;
+                let row = ((j - j0) * w) as usize;
+                let (i0, i1) = ((si - half).max(0), (si + half).min(w - 1));
+                let cells = &mut band[row + i0 as usize..=row + i1 as usize];
+                match self.table.row(dj) {
+                    Some(lengths) => {
+                        let from = (i0 - si + lengths.reach) as usize;
+                        for (o, &len) in cells.iter_mut().zip(&lengths.row[from..]) {
+                            // Inadmissible cells hold +∞ and are never lowered.
+                            *o = o.max(cs - self.slope * len);
+                        }
+                    }
+                    None => {
+                        for (o, di) in cells.iter_mut().zip(i0 - si..) {
+                            *o = o.max(cs - self.slope * ((di * di + dj * dj) as f64).sqrt());
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
 
 /// √(di² + dj²) for every offset of a cone's reach, computed once per transform instead of once
