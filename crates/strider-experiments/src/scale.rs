@@ -14,6 +14,7 @@ use strider_explore::Strategy;
 
 use crate::cancel::Cancel;
 use crate::io::{create_dir, write_json, write_text};
+use crate::parallel::on_worker;
 use crate::progress::Progress;
 use crate::render::line_chart;
 use crate::trial::{checked_time_limit, load, mission_params, run_mission, termination};
@@ -209,16 +210,21 @@ pub fn scale(o: &ScaleOptions, out: &Path, progress: &dyn Progress) -> Result<Sc
         cells: 0,
     }];
     let watch = (None, &o.cancel);
-    let (mission, log, _) = run_mission(&sc, params, o.seed, watch, |p| {
-        samples.push(Sample {
-            t: p.time_s,
-            wall: wall.elapsed().as_secs_f64(),
-            cells: p.observed_cells,
-        });
-        progress.at(
-            p.time_s as u64,
-            &format!("{} cells observed", p.observed_cells),
-        );
+    // On a pool thread, as `strider run` runs its mission (see `on_worker`): the loop does its
+    // share of every parallel part instead of a third thread waking and sleeping beside the
+    // pool's.
+    let (mission, log, _) = on_worker(|| {
+        run_mission(&sc, params, o.seed, watch, |p| {
+            samples.push(Sample {
+                t: p.time_s,
+                wall: wall.elapsed().as_secs_f64(),
+                cells: p.observed_cells,
+            });
+            progress.at(
+                p.time_s as u64,
+                &format!("{} cells observed", p.observed_cells),
+            );
+        })
     })?;
     let wall_s = wall.elapsed().as_secs_f64();
     let replans: Vec<Replan> = log
