@@ -80,10 +80,14 @@ impl PlanningView {
             Some(w) => strider_map::rect::intersection(known, w)?,
             None => known,
         };
-        let outside: Vec<bool> = rect
-            .cells()
-            .map(|c| bounds.is_some_and(|b| !b.contains_cell(c, d)))
-            .collect();
+        let outside: Vec<bool> = match bounds {
+            // Rows side by side: a cell's test is its own.
+            Some(b) => (0..rect.len())
+                .into_par_iter()
+                .map(|k| !b.contains_cell(rect.cell(k), d))
+                .collect(),
+            None => vec![false; rect.len()],
+        };
         let pass = map.passability_raster(rect);
         let adm = map.admissible_raster(rect);
         let per_gait: Vec<CostGrid> = models
@@ -113,11 +117,14 @@ impl PlanningView {
         let dt = transform::distance_transform(&best.cost, c_loss).ok()?;
         let fp = transform::footprint_max(&dt, map.params().r_robot).ok()?;
         let mut costs = fp.into_costs();
-        for (k, v) in costs.iter_mut().enumerate() {
-            if !adm[k] || pass[k] == Passability::Unknown {
-                *v = f32::INFINITY;
-            }
-        }
+        costs
+            .par_iter_mut()
+            .zip(adm.par_iter().zip(pass.par_iter()))
+            .for_each(|(v, (&adm, &pass))| {
+                if !adm || pass == Passability::Unknown {
+                    *v = f32::INFINITY;
+                }
+            });
         let grid = CostGrid::new(rect, d, costs).ok()?;
         Some(Self {
             per_gait,

@@ -5,6 +5,7 @@
 //! not admissible (π(ν) = 0 in Eq. 1, or inside the inflated configuration-space obstacle of
 //! decision 4). Paths never enter or leave such a cell.
 
+use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use strider_core::{Cell, CellRect};
 
@@ -88,20 +89,7 @@ impl CostGrid {
                 got: cost.len(),
             });
         }
-        let mut min_cost = f32::INFINITY;
-        let mut max_cost = 0.0f32;
-        for (index, &value) in cost.iter().enumerate() {
-            if value.is_nan() {
-                return Err(GridError::NanCost { index });
-            }
-            if value <= 0.0 {
-                return Err(GridError::NonPositiveCost { index, value });
-            }
-            min_cost = min_cost.min(value);
-            if value.is_finite() {
-                max_cost = max_cost.max(value);
-            }
-        }
+        let (min_cost, max_cost) = cost_range(&cost)?;
         Ok(Self {
             rect,
             cell_size,
@@ -202,6 +190,42 @@ impl CostGrid {
     }
 }
 
+/// Cells per chunk of [`cost_range`]'s parallel pass.
+const RANGE_CHUNK: usize = 1 << 15;
+
+/// The least cost and the greatest finite cost (0 without one) of `cost`, or the error of its
+/// first NaN or non-positive cost. Chunks are scanned side by side, each in a loop without an
+/// early exit (it vectorises); the offending index is looked up only when a chunk has one.
+fn cost_range(cost: &[f32]) -> Result<(f32, f32), GridError> {
+    let range = |chunk: &[f32]| {
+        let (mut lo, mut hi, mut bad) = (f32::INFINITY, 0.0f32, false);
+        for &v in chunk {
+            // NaN fails `v > 0.0` too.
+            bad |= !(v > 0.0);
+            lo = lo.min(v);
+            hi = if v.is_finite() { hi.max(v) } else { hi };
+        }
+        (lo, hi, bad)
+    };
+    let (lo, hi, bad) = cost.par_chunks(RANGE_CHUNK).map(range).reduce(
+        || (f32::INFINITY, 0.0, false),
+        |a, b| (a.0.min(b.0), a.1.max(b.1), a.2 || b.2),
+    );
+    if !bad {
+        return Ok((lo, hi));
+    }
+    let index = cost
+        .iter()
+        .position(|v| !(*v > 0.0))
+        .expect("a chunk saw a bad cost");
+    let value = cost[index];
+    Err(if value.is_nan() {
+        GridError::NanCost { index }
+    } else {
+        GridError::NonPositiveCost { index, value }
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -239,6 +263,34 @@ mod tests {
             Err(GridError::BadCellSize(0.0))
         );
         assert!(CostGrid::filled(rect(1, 1), f64::NAN, 1.0).is_err());
+    }
+
+    #[test]
+    fn validation_over_many_chunks_reports_the_first_bad_cell_and_the_range() {
+        let n = 3 * RANGE_CHUNK + 17;
+        let r = CellRect::new(Cell::new(0, 0), n as u32, 1);
+        let mut c: Vec<f32> = (0..n).map(|k| 1.0 + (k % 7) as f32).collect();
+        c[2 * RANGE_CHUNK + 5] = f32::INFINITY;
+        c[RANGE_CHUNK + 3] = 0.5;
+        let g = CostGrid::new(r, 0.1, c.clone()).unwrap();
+        assert_eq!((g.min_cost(), g.max_cost()), (0.5, 7.0));
+        // Bad cells in later chunks too: the first one is reported.
+        c[3 * RANGE_CHUNK + 1] = f32::NAN;
+        c[2 * RANGE_CHUNK + 9] = -1.0;
+        assert_eq!(
+            CostGrid::new(r, 0.1, c.clone()),
+            Err(GridError::NonPositiveCost {
+                index: 2 * RANGE_CHUNK + 9,
+                value: -1.0
+            })
+        );
+        c[RANGE_CHUNK - 1] = f32::NAN;
+        assert_eq!(
+            CostGrid::new(r, 0.1, c),
+            Err(GridError::NanCost {
+                index: RANGE_CHUNK - 1
+            })
+        );
     }
 
     #[test]

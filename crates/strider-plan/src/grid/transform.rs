@@ -27,6 +27,9 @@ pub struct BestGait {
     pub gait: Vec<Option<u16>>,
 }
 
+/// Rows per task of the transforms' per-row parallel passes.
+const ROWS_PER_TASK: usize = 32;
+
 fn check_shapes(grids: &[CostGrid]) -> Result<&CostGrid, GridError> {
     let first = grids.first().ok_or(GridError::Empty)?;
     if grids.iter().any(|g| !g.same_shape(first)) {
@@ -48,14 +51,23 @@ pub fn best_gait(grids: &[CostGrid]) -> Result<BestGait, GridError> {
     let n = first.len();
     let mut cost = vec![f32::INFINITY; n];
     let mut gait = vec![None; n];
-    for (g, grid) in grids.iter().enumerate() {
-        for (k, &c) in grid.costs().iter().enumerate() {
-            if c < cost[k] {
-                cost[k] = c;
-                gait[k] = Some(g as u16);
+    // Rows of cells side by side: each cell's minimum is its own.
+    let chunk = first.rect().width.max(1) as usize * ROWS_PER_TASK;
+    cost.par_chunks_mut(chunk)
+        .zip(gait.par_chunks_mut(chunk))
+        .enumerate()
+        .for_each(|(b, (cost, gait))| {
+            let at = b * chunk;
+            for (g, grid) in grids.iter().enumerate() {
+                let costs = &grid.costs()[at..at + cost.len()];
+                for ((best, arg), &c) in cost.iter_mut().zip(gait.iter_mut()).zip(costs) {
+                    if c < *best {
+                        *best = c;
+                        *arg = Some(g as u16);
+                    }
+                }
             }
-        }
-    }
+        });
     Ok(BestGait {
         cost: CostGrid::new(first.rect(), first.cell_size(), cost)?,
         gait,
@@ -105,7 +117,7 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
         return CostGrid::new(rect, grid.cell_size(), out);
     }
     let slope = c_loss * grid.cell_size(); // per cell
-    let mut out: Vec<f64> = cost.iter().map(|&c| c as f64).collect();
+    let mut out: Vec<f64> = cost.par_iter().map(|&c| c as f64).collect();
     let covered = |i: i64, j: i64, cs: f64| {
         // A missing neighbour is never the step towards an in-grid cell.
         i < 0 || i >= w || j < 0 || j >= h || {
@@ -117,6 +129,7 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
     // plateau interiors (both tests read only the input, so the order of the rest is as if
     // every cell were sorted).
     let mut order: Vec<u32> = (0..cost.len() as u32)
+        .into_par_iter()
         .filter(|&k| {
             let cs = cost[k as usize] as f64;
             if !cs.is_finite() || cs <= c_min {
@@ -130,7 +143,8 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
                 && covered(si, sj + 1, cs))
         })
         .collect();
-    order.sort_unstable_by(|&a, &b| {
+    // A total order (ties by index): the same sequence whichever sort and threads.
+    order.par_sort_unstable_by(|&a, &b| {
         cost[b as usize]
             .total_cmp(&cost[a as usize])
             .then(a.cmp(&b))
@@ -158,7 +172,7 @@ pub fn distance_transform(grid: &CostGrid, c_loss: f64) -> Result<CostGrid, Grid
     CostGrid::new(
         rect,
         grid.cell_size(),
-        out.into_iter().map(|v| v as f32).collect(),
+        out.into_par_iter().map(|v| v as f32).collect(),
     )
 }
 
@@ -304,26 +318,31 @@ pub fn footprint_max(grid: &CostGrid, r_robot: f64) -> Result<CostGrid, GridErro
     // rows[a] = H_a, row-major like the grid.
     let mut rows: Vec<Vec<f32>> = Vec::with_capacity(widest + 1);
     rows.push(cost.to_vec());
+    let band = w.max(1) * ROWS_PER_TASK;
     for a in 1..=widest {
         let prev = &rows[a - 1];
         let mut next = prev.clone();
         // H_a(i) = max(H_{a−1}(i), c(i − a), c(i + a)) where those exist, as two shifted
-        // passes over each row (no bounds test per cell, so they vectorise).
+        // passes over each row (no bounds test per cell, so they vectorise); bands of rows
+        // side by side.
         if a < w {
-            for (row, out) in cost.chunks_exact(w).zip(next.chunks_exact_mut(w)) {
-                for (o, &c) in out[a..].iter_mut().zip(&row[..w - a]) {
-                    *o = o.max(c);
-                }
-                for (o, &c) in out[..w - a].iter_mut().zip(&row[a..]) {
-                    *o = o.max(c);
-                }
-            }
+            next.par_chunks_mut(band)
+                .zip(cost.par_chunks(band))
+                .for_each(|(next, cost)| {
+                    for (row, out) in cost.chunks_exact(w).zip(next.chunks_exact_mut(w)) {
+                        for (o, &c) in out[a..].iter_mut().zip(&row[..w - a]) {
+                            *o = o.max(c);
+                        }
+                        for (o, &c) in out[..w - a].iter_mut().zip(&row[a..]) {
+                            *o = o.max(c);
+                        }
+                    }
+                });
         }
         rows.push(next);
     }
     let mut out = vec![f32::NEG_INFINITY; cost.len()];
-    for j in 0..h {
-        let o = &mut out[j * w..(j + 1) * w];
+    out.par_chunks_mut(w.max(1)).enumerate().for_each(|(j, o)| {
         for (k, &a) in half.iter().enumerate() {
             let y = j as i64 + k as i64 - radius;
             if y < 0 || y >= h as i64 {
@@ -334,7 +353,7 @@ pub fn footprint_max(grid: &CostGrid, r_robot: f64) -> Result<CostGrid, GridErro
                 *v = v.max(s);
             }
         }
-    }
+    });
     CostGrid::new(rect, grid.cell_size(), out)
 }
 
