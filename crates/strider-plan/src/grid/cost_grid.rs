@@ -200,8 +200,7 @@ fn cost_range(cost: &[f32]) -> Result<(f32, f32), GridError> {
     let range = |chunk: &[f32]| {
         let (mut lo, mut hi, mut bad) = (f32::INFINITY, 0.0f32, false);
         for &v in chunk {
-            // NaN fails `v > 0.0` too.
-            bad |= !(v > 0.0);
+            bad |= v.is_nan() | (v <= 0.0);
             lo = lo.min(v);
             hi = if v.is_finite() { hi.max(v) } else { hi };
         }
@@ -216,7 +215,7 @@ fn cost_range(cost: &[f32]) -> Result<(f32, f32), GridError> {
     }
     let index = cost
         .iter()
-        .position(|v| !(*v > 0.0))
+        .position(|v| v.is_nan() || *v <= 0.0)
         .expect("a chunk saw a bad cost");
     let value = cost[index];
     Err(if value.is_nan() {
