@@ -120,8 +120,8 @@ impl PlanningView {
         costs
             .par_iter_mut()
             .zip(adm.par_iter().zip(pass.par_iter()))
-            .for_each(|(v, (&adm, &pass))| {
-                if !adm || pass == Passability::Unknown {
+            .for_each(|(v, (&admissible, &p))| {
+                if !admissible || p == Passability::Unknown {
                     *v = f32::INFINITY;
                 }
             });

@@ -195,7 +195,7 @@ const RANGE_CHUNK: usize = 1 << 15;
 
 /// The least cost and the greatest finite cost (0 without one) of `cost`, or the error of its
 /// first NaN or non-positive cost. Chunks are scanned side by side, each in a loop without an
-/// early exit (it vectorises); the offending index is looked up only when a chunk has one.
+/// early exit; the offending index is looked up only when a chunk has one.
 fn cost_range(cost: &[f32]) -> Result<(f32, f32), GridError> {
     let range = |chunk: &[f32]| {
         let (mut lo, mut hi, mut bad) = (f32::INFINITY, 0.0f32, false);
