@@ -28,6 +28,7 @@
 //! rows.
 
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 use strider_plan::tsplib::read_instance_file;
 use strider_plan::{Instance, Mode, Solution, SolverParams, solve};
@@ -54,7 +55,12 @@ struct Args {
     warm_only: bool,
 }
 
-fn parse(mut args: impl Iterator<Item = String>, max_sets: usize, runs: u64) -> Args {
+/// The options after the subcommand, or a one-line error naming the bad one.
+fn parse(
+    mut args: impl Iterator<Item = String>,
+    max_sets: usize,
+    runs: u64,
+) -> Result<Args, String> {
     let mut a = Args {
         dir: PathBuf::from("/work/shared/data/gtsplib"),
         min_sets: 0,
@@ -70,30 +76,42 @@ fn parse(mut args: impl Iterator<Item = String>, max_sets: usize, runs: u64) -> 
         warm_only: false,
     };
     while let Some(k) = args.next() {
-        let v = args.next().unwrap_or_else(|| panic!("{k} needs a value"));
+        let v = args.next().ok_or_else(|| format!("{k} needs a value"))?;
         match k.as_str() {
             "--dir" => a.dir = PathBuf::from(v),
-            "--min-sets" => a.min_sets = v.parse().expect("--min-sets"),
-            "--max-sets" => a.max_sets = v.parse().expect("--max-sets"),
-            "--runs" => a.runs = v.parse().expect("--runs"),
-            "--seed" => a.seed = v.parse().expect("--seed"),
-            "--trials" => a.trials = Some(v.parse().expect("--trials")),
-            "--stall-trials" => a.stall_trials = Some(v.parse().expect("--stall-trials")),
-            "--stall-per-set" => a.stall_per_set = Some(v.parse().expect("--stall-per-set")),
-            "--iterations" => a.iterations = Some(v.parse().expect("--iterations")),
-            "--stall" => a.stall = Some(v.parse().expect("--stall")),
+            "--min-sets" => a.min_sets = number(&k, &v)?,
+            "--max-sets" => a.max_sets = number(&k, &v)?,
+            "--runs" => a.runs = number(&k, &v)?,
+            "--seed" => a.seed = number(&k, &v)?,
+            "--trials" => a.trials = Some(number(&k, &v)?),
+            "--stall-trials" => a.stall_trials = Some(number(&k, &v)?),
+            "--stall-per-set" => a.stall_per_set = Some(number(&k, &v)?),
+            "--iterations" => a.iterations = Some(number(&k, &v)?),
+            "--stall" => a.stall = Some(number(&k, &v)?),
             "--references" => a.references = Some(PathBuf::from(v)),
             "--warm-only" => a.warm_only = v != "0",
-            _ => panic!("unknown argument {k}"),
+            _ => return Err(format!("unknown argument {k}")),
         }
     }
-    a
+    if a.runs == 0 {
+        return Err("--runs must be at least 1".into());
+    }
+    Ok(a)
+}
+
+/// `v`, the value of option `k`, as a non-negative integer.
+fn number<T: std::str::FromStr>(k: &str, v: &str) -> Result<T, String> {
+    v.parse()
+        .map_err(|_| format!("{k} takes a non-negative integer, got {v:?}"))
 }
 
 /// `(name, sets, best_known)` rows of `best_known.csv` within the set-count range.
-fn references(a: &Args) -> Vec<(String, usize, i64)> {
-    let csv = std::fs::read_to_string(a.dir.join("best_known.csv")).expect("best_known.csv");
-    csv.lines()
+fn references(a: &Args) -> Result<Vec<(String, usize, i64)>, String> {
+    let path = a.dir.join("best_known.csv");
+    let csv = std::fs::read_to_string(&path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    Ok(csv
+        .lines()
         .skip(1)
         .filter_map(|l| {
             let f: Vec<&str> = l.split(',').collect();
@@ -101,20 +119,22 @@ fn references(a: &Args) -> Vec<(String, usize, i64)> {
             let best: i64 = f.get(3)?.trim().parse().ok()?;
             (sets >= a.min_sets && sets <= a.max_sets).then(|| (f[0].to_string(), sets, best))
         })
-        .collect()
+        .collect())
 }
 
-fn read(dir: &Path, name: &str) -> Instance {
-    read_instance_file(dir.join(format!("{name}.gtsp"))).expect("read instance")
+fn read(dir: &Path, name: &str) -> Result<Instance, String> {
+    let path = dir.join(format!("{name}.gtsp"));
+    read_instance_file(&path).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-fn checked(inst: &Instance, p: &SolverParams) -> Solution {
-    let sol = solve(inst, p).expect("solve");
-    inst.check_tour(&sol.tour).expect("feasible tour");
-    sol
+fn checked(inst: &Instance, p: &SolverParams) -> Result<Solution, String> {
+    let sol = solve(inst, p).map_err(|e| format!("the solver refused the instance: {e}"))?;
+    inst.check_tour(&sol.tour)
+        .map_err(|e| format!("the solver returned an infeasible tour: {e}"))?;
+    Ok(sol)
 }
 
-fn gtsplib(a: &Args) {
+fn gtsplib(a: &Args) -> Result<(), String> {
     println!(
         "{:<12} {:>4} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>6}",
         "instance",
@@ -129,8 +149,8 @@ fn gtsplib(a: &Args) {
         "trials"
     );
     let (mut gaps, mut total) = (Vec::new(), 0.0);
-    for (name, sets, best) in references(a) {
-        let inst = read(&a.dir, &name);
+    for (name, sets, best) in references(a)? {
+        let inst = read(&a.dir, &name)?;
         let stall = a.stall_per_set.map(|f| (f * sets as u64).max(1000));
         let (mut g, mut t, mut it, mut tr) = (Vec::new(), Vec::new(), 0u64, 0usize);
         let mut it_best = 0u64;
@@ -143,8 +163,8 @@ fn gtsplib(a: &Args) {
                 stall_iterations: stall,
                 ..SolverParams::default()
             };
-            let sol = checked(&inst, &p);
-            g.push(100.0 * (sol.cost - best) as f64 / best as f64);
+            let sol = checked(&inst, &p)?;
+            g.push(100.0 * (sol.cost - best) as f64 / best.max(1) as f64);
             t.push(sol.time_s);
             it += sol.iterations;
             it_best += sol.best_iteration;
@@ -170,6 +190,7 @@ fn gtsplib(a: &Args) {
         gaps.iter().sum::<f64>() / gaps.len().max(1) as f64,
         gaps.iter().cloned().fold(0.0f64, f64::max)
     );
+    Ok(())
 }
 
 /// The mission's solver budget (see the exploration crate's tour solver defaults) with the
@@ -202,27 +223,30 @@ fn mission_params(
 
 /// The reference cost of the open instance: the best of eight slow-preset runs, or the value
 /// stored for `name` in `cache`.
-fn reference_cost(inst: &Instance, open: usize, name: &str, cache: &mut Vec<(String, i64)>) -> i64 {
+fn reference_cost(
+    inst: &Instance,
+    open: usize,
+    name: &str,
+    cache: &mut Vec<(String, i64)>,
+) -> Result<i64, String> {
     if let Some((_, c)) = cache.iter().find(|(n, _)| n == name) {
-        return *c;
+        return Ok(*c);
     }
-    let c = (0..8)
-        .map(|s| {
-            let p = SolverParams {
-                mode: Mode::Slow,
-                seed: 1000 + s,
-                open: Some(open),
-                ..SolverParams::default()
-            };
-            checked(inst, &p).cost
-        })
-        .min()
-        .expect("eight runs");
+    let mut c = i64::MAX;
+    for s in 0..8 {
+        let p = SolverParams {
+            mode: Mode::Slow,
+            seed: 1000 + s,
+            open: Some(open),
+            ..SolverParams::default()
+        };
+        c = c.min(checked(inst, &p)?.cost);
+    }
     cache.push((name.to_string(), c));
-    c
+    Ok(c)
 }
 
-fn mission(a: &Args) {
+fn mission(a: &Args) -> Result<(), String> {
     println!(
         "{:<12} {:>4} {:>6} {:>8} {:>9} {:>8} {:>8} {:>9} {:>9}",
         "instance",
@@ -251,13 +275,13 @@ fn mission(a: &Args) {
     let (mut worst_gap, mut worst_t) = (0.0f64, 0.0f64);
     // Over the warm-started mission-budget rows: (instances, Σ mean time, Σ mean gap, over 0.1 %).
     let mut summary = (0usize, 0.0f64, 0.0f64, 0usize);
-    for (name, sets, _) in references(a) {
-        let inst = read(&a.dir, &name);
+    for (name, sets, _) in references(a)? {
+        let inst = read(&a.dir, &name)?;
         let open = inst.sets[0][0];
         // The instance before the newest goal (the last set) appeared.
         let mut before = inst.clone();
         before.sets.pop();
-        let reference = reference_cost(&inst, open, &name, &mut cache);
+        let reference = reference_cost(&inst, open, &name, &mut cache)?;
         let starts: &[(bool, bool)] = if a.warm_only {
             &[(true, false)]
         } else {
@@ -267,9 +291,13 @@ fn mission(a: &Args) {
             let (mut t, mut g) = (Vec::new(), Vec::new());
             for k in 0..a.runs {
                 let seed = a.seed.wrapping_add(k);
-                let prev = warm
-                    .then(|| checked(&before, &mission_params(a, seed, open, None, preset)).tour);
-                let sol = checked(&inst, &mission_params(a, seed, open, prev, preset));
+                let prev = match warm {
+                    true => {
+                        Some(checked(&before, &mission_params(a, seed, open, None, preset))?.tour)
+                    }
+                    false => None,
+                };
+                let sol = checked(&inst, &mission_params(a, seed, open, prev, preset))?;
                 t.push(sol.time_s * 1e3);
                 g.push(100.0 * (sol.cost - reference) as f64 / reference.max(1) as f64);
             }
@@ -304,15 +332,23 @@ fn mission(a: &Args) {
     println!("worst_mean_time_ms={worst_t:.2} worst_gap_pct={worst_gap:.4}");
     if let Some(f) = &a.references {
         let text: String = cache.iter().map(|(n, c)| format!("{n},{c}\n")).collect();
-        std::fs::write(f, text).expect("write the reference costs");
+        std::fs::write(f, text).map_err(|e| format!("cannot write {}: {e}", f.display()))?;
     }
+    Ok(())
 }
 
-fn main() {
+fn main() -> ExitCode {
     let mut args = std::env::args().skip(1);
-    match args.next().as_deref() {
-        Some("gtsplib") => gtsplib(&parse(args, 89, 3)),
-        Some("mission") => mission(&parse(args, 40, 5)),
-        _ => panic!("usage: gtsp_small_bench gtsplib|mission [--dir D] [--min-sets K] …"),
+    let run = match args.next().as_deref() {
+        Some("gtsplib") => parse(args, 89, 3).and_then(|a| gtsplib(&a)),
+        Some("mission") => parse(args, 40, 5).and_then(|a| mission(&a)),
+        _ => Err("usage: gtsp_small_bench gtsplib|mission [--dir D] [--min-sets K] …".into()),
+    };
+    match run {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("gtsp_small_bench: {e}");
+            ExitCode::from(2)
+        }
     }
 }
