@@ -131,7 +131,7 @@ impl GainCache {
         };
         let view: &GainView = view;
         let todo: Vec<(usize, Cell)> = candidates
-            .par_iter()
+            .iter()
             .filter_map(|&c| view.rect.index(c).map(|k| (k, c)))
             .filter(|&(k, _)| counts[k] == NOT_CACHED)
             .collect();
@@ -150,7 +150,7 @@ impl GainCache {
             vis.put(k, v);
         }
         let counts = candidates
-            .par_iter()
+            .iter()
             .map(|&c| view.rect.index(c).map_or(0, |k| counts[k]))
             .collect();
         InfoGain::from_counts(candidates, counts)

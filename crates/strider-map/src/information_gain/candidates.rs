@@ -4,7 +4,6 @@ use crate::map::ElevationMap;
 use crate::passability::disc_reach;
 use crate::reachability::Reachability;
 use crate::rect::{self, WorldRect, in_bounds};
-use rayon::prelude::*;
 use strider_core::{Cell, CellRect};
 
 /// I_model (Eq. 11) of the candidate cells with non-zero gain.
@@ -39,7 +38,7 @@ impl InfoGain {
         Self {
             candidates: candidates.len(),
             cells: candidates
-                .into_par_iter()
+                .into_iter()
                 .zip(counts)
                 .filter(|&(_, n)| n > 0)
                 .map(|(c, n)| (c, n as f64 / 9.0))
@@ -59,30 +58,23 @@ pub(super) fn candidates(
 ) -> Vec<Cell> {
     let stride = map.params().info_gain_stride.max(1) as i32;
     let d = map.cell_size();
-    // Lattice rows side by side, in order: a late campus map has about a million lattice
-    // points, tested at every spatial update.
-    lattice_rows(reach.rect(), stride)
-        .into_par_iter()
-        .flat_map_iter(|row| row.filter(|&c| reach.is_goal_cell(c) && in_bounds(bounds, c, d)))
+    lattice_cells(reach.rect(), stride)
+        .filter(|&c| reach.is_goal_cell(c) && in_bounds(bounds, c, d))
         .collect()
 }
 
-/// The cells of `rect` on the lattice of `stride` (coordinates divisible by it), row by row,
-/// each row an iterator over its cells.
-fn lattice_rows(rect: CellRect, stride: i32) -> Vec<impl Iterator<Item = Cell> + Send + use<>> {
+/// The cells of `rect` whose coordinates are both multiples of `stride` (≥ 1), row-major.
+fn lattice_cells(rect: CellRect, stride: i32) -> impl Iterator<Item = Cell> {
     let first = |lo: i32| lo + (-lo).rem_euclid(stride);
     let (i0, j0) = (first(rect.min.i), first(rect.min.j));
     let i_end = rect.min.i as i64 + rect.width as i64;
     let j_end = rect.min.j as i64 + rect.height as i64;
     let step = stride as usize;
-    (j0 as i64..j_end)
-        .step_by(step)
-        .map(|j| {
-            (i0 as i64..i_end)
-                .step_by(step)
-                .map(move |i| Cell::new(i as i32, j as i32))
-        })
-        .collect()
+    (j0 as i64..j_end).step_by(step).flat_map(move |j| {
+        (i0 as i64..i_end)
+            .step_by(step)
+            .map(move |i| Cell::new(i as i32, j as i32))
+    })
 }
 
 /// The view rectangle: the known area grown by the sensor reach plus the neighbourhood of
@@ -108,7 +100,7 @@ mod tests {
                 .cells()
                 .filter(|c| c.i.rem_euclid(stride) == 0 && c.j.rem_euclid(stride) == 0)
                 .collect();
-            let got: Vec<Cell> = lattice_rows(rect, stride).into_iter().flatten().collect();
+            let got: Vec<Cell> = lattice_cells(rect, stride).collect();
             proptest::prop_assert_eq!(got, want);
         }
     }
