@@ -81,7 +81,7 @@ impl PlanningView {
             None => known,
         };
         let outside: Vec<bool> = match bounds {
-            // Rows side by side: a cell's test is its own.
+            // Cells side by side: each test is its own.
             Some(b) => (0..rect.len())
                 .into_par_iter()
                 .map(|k| !b.contains_cell(rect.cell(k), d))
