@@ -239,10 +239,16 @@ impl DescriptorField {
             }
             (self.slot, self.order, self.store) = (slot, order, store);
         }
-        if !self
-            .order
-            .iter()
-            .all(|&k| rect.contains(store.cell(k as usize)))
+        // Only cells of the old rectangle are described: when the new one holds it (the
+        // known bounds grow), none is lost, and the pass over every described cell (millions
+        // on a large map, at every learning update) is not needed.
+        let keeps_old =
+            self.rect.is_empty() || rect::intersection(self.rect, rect) == Some(self.rect);
+        if !keeps_old
+            && !self
+                .order
+                .iter()
+                .all(|&k| rect.contains(store.cell(k as usize)))
         {
             let gone: Vec<u32> = self
                 .order
