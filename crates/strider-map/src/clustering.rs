@@ -46,12 +46,27 @@ pub struct SpatialGoal {
 /// rounding of a bucket index (about 1e-11 of a bucket at a million cells from the origin). The
 /// result is that of comparing every centre.
 pub fn greedy_clusters(cells: &[Cell], radius: f64) -> Vec<Vec<usize>> {
+    let (of, sums) = greedy_cluster_ids(cells, radius);
+    let mut clusters: Vec<Vec<usize>> = sums
+        .iter()
+        .map(|s| Vec::with_capacity(s.2 as usize))
+        .collect();
+    for (k, &cl) in of.iter().enumerate() {
+        clusters[cl as usize].push(k);
+    }
+    clusters
+}
+
+/// [`greedy_clusters`] as each cell's cluster id, with each cluster's (Σi, Σj, n) in lattice
+/// units: a large map's frontier has hundreds of thousands of informative cells, and member
+/// lists grown one cell at a time cost more in the allocator than the clustering itself.
+fn greedy_cluster_ids(cells: &[Cell], radius: f64) -> (Vec<u32>, Vec<(f64, f64, f64)>) {
     // Per cluster: Σi, Σj, n (centres in lattice units; exact for integer sums).
     let mut sums: Vec<(f64, f64, f64)> = Vec::new();
-    let mut clusters: Vec<Vec<usize>> = Vec::new();
+    let mut of = Vec::with_capacity(cells.len());
     let mut buckets = CentreBuckets::new(radius, cells);
     let r2 = radius * radius;
-    for (k, &c) in cells.iter().enumerate() {
+    for &c in cells {
         let (x, y) = (c.i as f64, c.j as f64);
         let mut best: Option<(f64, usize)> = None;
         buckets.for_each_near(x, y, |cl, (cx, cy)| {
@@ -64,21 +79,20 @@ pub fn greedy_clusters(cells: &[Cell], radius: f64) -> Vec<Vec<usize>> {
         let cl = match best {
             Some((_, cl)) => {
                 let (sx, sy, n) = sums[cl];
-                buckets.remove(cl, sx / n, sy / n);
+                let s = (sx + x, sy + y, n + 1.0);
+                sums[cl] = s;
+                buckets.moved(cl, (sx / n, sy / n), (s.0 / s.2, s.1 / s.2));
                 cl
             }
             None => {
-                sums.push((0.0, 0.0, 0.0));
-                clusters.push(Vec::new());
-                clusters.len() - 1
+                sums.push((x, y, 1.0));
+                buckets.insert(sums.len() - 1, x, y);
+                sums.len() - 1
             }
         };
-        let s = &mut sums[cl];
-        *s = (s.0 + x, s.1 + y, s.2 + 1.0);
-        buckets.insert(cl, s.0 / s.2, s.1 / s.2);
-        clusters[cl].push(k);
+        of.push(cl as u32);
     }
-    clusters
+    (of, sums)
 }
 
 /// Cluster centres by square bucket, in a dense grid over the cells' bounding box (a centre
@@ -132,9 +146,11 @@ impl CentreBuckets {
         }
     }
 
-    /// The bucket (column, row) of (x, y), clamped to the grid.
+    /// The bucket (column, row) of (x, y), clamped to the grid. Truncation stands in for
+    /// `floor` (a library call on the baseline target): the two differ only below zero, where
+    /// the clamp makes both 0.
     fn key(&self, x: f64, y: f64) -> (i64, i64) {
-        let f = |v: f64, o: f64, n: i64| (((v - o) / self.side).floor() as i64).clamp(0, n - 1);
+        let f = |v: f64, o: f64, n: i64| (((v - o) / self.side) as i64).clamp(0, n - 1);
         (
             f(x, self.origin.0, self.dims.0),
             f(y, self.origin.1, self.dims.1),
@@ -150,9 +166,19 @@ impl CentreBuckets {
         self.at(k).push((cl, (x, y)));
     }
 
-    fn remove(&mut self, cl: usize, x: f64, y: f64) {
-        let k = self.key(x, y);
-        self.at(k).retain(|&(c, _)| c != cl);
+    /// Cluster `cl`'s centre moved from `from` to `to`: updated in place when it stays in its
+    /// bucket (the usual case: one more member moves a centre by a fraction of a cell).
+    fn moved(&mut self, cl: usize, from: (f64, f64), to: (f64, f64)) {
+        let (was, now) = (self.key(from.0, from.1), self.key(to.0, to.1));
+        let bucket = self.at(was);
+        if was == now {
+            if let Some(e) = bucket.iter_mut().find(|e| e.0 == cl) {
+                e.1 = to;
+            }
+        } else {
+            bucket.retain(|&(c, _)| c != cl);
+            self.insert(cl, to.0, to.1);
+        }
     }
 
     /// Calls `visit` with every cluster whose centre lies in (x, y)'s bucket or a neighbour,
@@ -181,20 +207,19 @@ pub fn cluster_information(
     let p = map.params();
     let d = map.cell_size();
     let cells: Vec<Cell> = gain.cells.iter().map(|&(c, _)| c).collect();
-    let clusters = greedy_clusters(&cells, p.c_radius / d);
+    let (of, sums) = greedy_cluster_ids(&cells, p.c_radius / d);
+    // Per cluster, Σ(i + 0.5), Σ(j + 0.5) (cell centres, lattice units: exact for integer
+    // sums) and Σ gain, each summed over the members in their order.
+    let mut totals = vec![(0.0, 0.0, 0.0); sums.len()];
+    for (&cl, &(c, g)) in of.iter().zip(&gain.cells) {
+        let t = &mut totals[cl as usize];
+        *t = (t.0 + (c.i as f64 + 0.5), t.1 + (c.j as f64 + 0.5), t.2 + g);
+    }
     let mut goals = Vec::new();
-    for members in clusters {
-        if members.len() <= p.c_min_cells {
+    for (&(_, _, n), &(x, y, info)) in sums.iter().zip(&totals) {
+        let members = n as usize;
+        if members <= p.c_min_cells {
             continue; // line 14: |A_i| > c_min_cells
-        }
-        let n = members.len() as f64;
-        // Average in lattice units (cell centres at i + 0.5), exact for integer sums.
-        let (mut x, mut y, mut info) = (0.0, 0.0, 0.0);
-        for &k in &members {
-            let c = gain.cells[k].0;
-            x += c.i as f64 + 0.5;
-            y += c.j as f64 + 0.5;
-            info += gain.cells[k].1;
         }
         let (x, y) = (x / n, y / n);
         let centroid = Point2::new(x * d, y * d);
@@ -206,7 +231,7 @@ pub fn cluster_information(
             cell,
             centroid,
             information: info,
-            members: members.len(),
+            members,
         });
     }
     goals
@@ -280,6 +305,72 @@ mod tests {
             proptest::prop_assert_eq!(
                 greedy_clusters(&cells, radius),
                 clusters_by_scanning(&cells, radius)
+            );
+        }
+    }
+
+    /// Alg. 3's goals from the member lists of [`greedy_clusters`], summed member by member:
+    /// the reference of the per-cluster totals of [`cluster_information`].
+    fn goals_from_member_lists(
+        map: &ElevationMap,
+        gain: &InfoGain,
+        reach: &Reachability,
+    ) -> Vec<SpatialGoal> {
+        let p = map.params();
+        let d = map.cell_size();
+        let cells: Vec<Cell> = gain.cells.iter().map(|&(c, _)| c).collect();
+        let mut goals = Vec::new();
+        for members in greedy_clusters(&cells, p.c_radius / d) {
+            if members.len() <= p.c_min_cells {
+                continue;
+            }
+            let n = members.len() as f64;
+            let (mut x, mut y, mut info) = (0.0, 0.0, 0.0);
+            for &k in &members {
+                let c = gain.cells[k].0;
+                x += c.i as f64 + 0.5;
+                y += c.j as f64 + 0.5;
+                info += gain.cells[k].1;
+            }
+            let (x, y) = (x / n, y / n);
+            let avg = Cell::new(x.floor() as i32, y.floor() as i32);
+            if let Some(cell) = reach.nearest_goal_cell(avg, |_| true) {
+                goals.push(SpatialGoal {
+                    cell,
+                    centroid: Point2::new(x * d, y * d),
+                    information: info,
+                    members: members.len(),
+                });
+            }
+        }
+        goals
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn goals_equal_those_summed_from_member_lists(
+            pts in proptest::collection::vec((0i32..60, 0i32..40, 1u32..90), 0..250),
+            c_radius in 0.15f64..1.5,
+            c_min_cells in 0usize..6,
+        ) {
+            let params = MapParams {
+                cell_size: 0.1,
+                c_radius,
+                c_min_cells,
+                r_robot: 0.0,
+                ..MapParams::default()
+            };
+            let mut m = ElevationMap::new(params);
+            flat(&mut m, block(0, 0, 60, 40));
+            let reach = Reachability::compute(&m, Cell::new(0, 0));
+            let mut cells: Vec<(Cell, f64)> =
+                pts.iter().map(|&(i, j, g)| (Cell::new(i, j), g as f64 / 9.0)).collect();
+            cells.sort_by_key(|&(c, _)| (c.j, c.i));
+            cells.dedup_by_key(|&mut (c, _)| c);
+            let gain = InfoGain { candidates: cells.len(), cells };
+            proptest::prop_assert_eq!(
+                cluster_information(&m, &gain, &reach, None),
+                goals_from_member_lists(&m, &gain, &reach)
             );
         }
     }
