@@ -280,6 +280,12 @@ impl Reachability {
         &self.reach
     }
 
+    /// Which cells of [`Reachability::rect`] are admissible, row-major (a goal cell is
+    /// reachable and admissible).
+    pub fn admissible_bitmap(&self) -> &[bool] {
+        &self.admissible
+    }
+
     /// Number of reachable cells.
     pub fn count(&self) -> usize {
         self.count

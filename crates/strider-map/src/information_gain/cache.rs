@@ -149,11 +149,7 @@ impl GainCache {
             counts[k] = n;
             vis.put(k, v);
         }
-        let counts = candidates
-            .iter()
-            .map(|&c| view.rect.index(c).map_or(0, |k| counts[k]))
-            .collect();
-        InfoGain::from_counts(candidates, counts)
+        InfoGain::from_count_of(&candidates, |c| view.rect.index(c).map_or(0, |k| counts[k]))
     }
 
     /// Makes the disc that of radius `r_sensor` on cells of size `d`, dropping the view when
