@@ -291,11 +291,10 @@ fn mission(a: &Args) -> Result<(), String> {
             let (mut t, mut g) = (Vec::new(), Vec::new());
             for k in 0..a.runs {
                 let seed = a.seed.wrapping_add(k);
-                let prev = match warm {
-                    true => {
-                        Some(checked(&before, &mission_params(a, seed, open, None, preset))?.tour)
-                    }
-                    false => None,
+                let prev = if warm {
+                    Some(checked(&before, &mission_params(a, seed, open, None, preset))?.tour)
+                } else {
+                    None
                 };
                 let sol = checked(&inst, &mission_params(a, seed, open, prev, preset))?;
                 t.push(sol.time_s * 1e3);
